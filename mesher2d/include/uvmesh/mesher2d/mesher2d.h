@@ -1,0 +1,179 @@
+// uvmesh::mesher2d -- anisotropic 2D Delaunay mesher (reference chapter §7.1-7.3,
+// 7.5, 7.6.1). Depends on nothing but the standard library.
+//
+// Usage:
+//   uvmesh::m2d::Pslg in;
+//   in.points = {{0,0},{1,0},{1,1},{0,1}};
+//   in.segments = {{0,1,1},{1,2,1},{2,3,1},{3,0,1}};
+//   uvmesh::m2d::Result r = uvmesh::m2d::mesh(in, uvmesh::m2d::SizeSpec::uniform(0.05));
+//   if (!r.ok()) { /* r.status.message names what failed and where */ }
+//   for (auto& t : r.mesh.triangles) { /* t[0], t[1], t[2] index r.mesh.vertices, CCW */ }
+//
+// Pipeline (each stage timed in Result::stats):
+//   1. input check, duplicate merge          (exact comparison; reported)
+//   2. boundary discretization               (segments split at unit metric length, eq. 7.10;
+//                                             off when Options::split_segments is false)
+//   3. Delaunay triangulation in a box       (§7.3.2, kernel T(i+1) = T(i) - C(P) + B(P))
+//   4. boundary enforcement by swaps         (§7.2.2)
+//   5. domain coloring                       (§7.3.4): exterior and holes removed, regions
+//   6. field points by edge saturation       (§7.3.5, 7.5.2), anisotropic kernel (§7.6.1)
+//   7. optimization                          (§7.3.6): quality swaps, relocation in the metric
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace uvmesh::m2d {
+
+using VertId = std::int32_t;
+using TriId = std::int32_t;
+inline constexpr std::int32_t kNone = -1;
+
+struct Vec2 {
+  double x = 0, y = 0;
+};
+
+// Symmetric positive definite 2x2 tensor [[m11 m12][m12 m22]]; the length of a vector e
+// is sqrt(e^T M e) (eq. 7.10). A size h gives M = I / h^2 (eq. 7.9).
+struct Metric2 {
+  double m11 = 1, m12 = 0, m22 = 1;
+  static Metric2 iso(double h) { return {1.0 / (h * h), 0.0, 1.0 / (h * h)}; }
+};
+
+// Planar straight line graph, as in Triangle's .poly format.
+struct Pslg {
+  struct Segment {
+    VertId a = 0, b = 0;
+    int marker = 0;
+  };
+  struct Region {
+    Vec2 seed;
+    double attribute = 0;
+  };
+  std::vector<Vec2> points;
+  std::vector<int> point_markers;  // optional: empty, or one per point
+  std::vector<Segment> segments;
+  std::vector<Vec2> holes;         // seeds: the connected component containing them is removed
+  std::vector<Region> regions;     // seeds: the component containing them gets the attribute
+};
+
+// Size specification: the control space of §7.5.1.
+struct SizeSpec {
+  enum class Kind { Uniform, Scalar, Metric };
+  Kind kind = Kind::Uniform;
+  double h = 0;                                     // Uniform; <= 0 means "from the boundary"
+  std::function<double(double, double)> size;       // Scalar: h(x, y) > 0
+  std::function<Metric2(double, double)> metric;    // Metric: M(x, y) SPD
+
+  static SizeSpec uniform(double h) { SizeSpec s; s.kind = Kind::Uniform; s.h = h; return s; }
+  static SizeSpec scalar(std::function<double(double, double)> f) {
+    SizeSpec s; s.kind = Kind::Scalar; s.size = std::move(f); return s;
+  }
+  static SizeSpec aniso(std::function<Metric2(double, double)> f) {
+    SizeSpec s; s.kind = Kind::Metric; s.metric = std::move(f); return s;
+  }
+};
+
+struct Options {
+  bool refine = true;                   // false: constrained Delaunay triangulation only
+  bool split_segments = true;           // discretize input segments at unit length first;
+                                        // false keeps boundary vertices exactly (surface stage)
+  bool split_crossing_segments = false; // false: crossing segments are an error naming both
+  bool triangulate_hull_without_segments = true;  // no segments: mesh the convex hull
+  bool optimize = true;
+  int optimize_passes = 4;
+  bool anisotropic_kernel = true;       // §7.6.1 cavity criterion under M(P) when kind==Metric
+  double max_anisotropy = 1e6;          // cap on the ratio of metric eigenvalues' square roots
+  std::int64_t max_vertices = 200'000'000;  // refinement stops (status Incomplete) beyond this
+  bool check = false;                   // run the checker after each stage (debug builds: on)
+};
+
+struct Triangle3 {
+  std::array<VertId, 3> v;
+};
+
+struct BoundaryEdge {
+  VertId a = 0, b = 0;
+  int marker = 0;
+};
+
+struct Mesh {
+  std::vector<Vec2> vertices;
+  std::vector<int> vertex_markers;          // input markers; boundary splits inherit the
+                                            // segment marker; interior vertices 0
+  std::vector<std::array<VertId, 3>> triangles;  // counter-clockwise
+  std::vector<int> triangle_region;          // connected component index (0..)
+  std::vector<double> triangle_attribute;    // regional attribute (0 when no seed)
+  std::vector<BoundaryEdge> boundary_edges;  // every constrained edge left in the mesh
+  std::vector<VertId> input_vertex;          // input point i -> output vertex (kNone if
+                                             // it lies outside the domain)
+};
+
+struct Quality {
+  // Q_K = alpha * h_max / rho_K, alpha = sqrt(3)/6 (eq. 7.6); q_K = 1 / Q_K.
+  double q_max = 0, q_mean = 0;              // Q_M (eq. 7.7) and the mean Q_K
+  double share_q_below_1_5 = 0, share_q_below_2 = 0;
+  double min_angle_deg = 0, max_angle_deg = 0;
+  double metric_q_max = 0, metric_q_mean = 0;
+  double metric_share_q_below_1_5 = 0, metric_share_q_below_2 = 0;
+  double metric_min_angle_deg = 0, metric_max_angle_deg = 0;
+  double unit_edge_share = 0;                // metric length in [1/sqrt2, sqrt2]
+  double edge_len_min = 0, edge_len_max = 0, edge_len_mean = 0;  // in the metric
+  std::int64_t edges = 0;
+};
+
+struct Stats {
+  struct Stage {
+    std::string name;
+    double seconds = 0;
+  };
+  std::vector<Stage> stages;
+  std::int64_t duplicates_merged = 0;
+  std::int64_t segments_split_at_vertices = 0;
+  std::int64_t crossings_split = 0;
+  std::int64_t field_points_inserted = 0;
+  std::int64_t field_points_rejected = 0;
+  int saturation_waves = 0;
+  std::int64_t swaps = 0, relocations = 0;
+  Quality quality;
+};
+
+enum class StatusCode {
+  Ok,
+  InvalidInput,       // NaN/Inf, bad index, empty PSLG, degenerate segment
+  CrossingSegments,   // two segments cross (and Options::split_crossing_segments is false)
+  OpenBoundary,       // a hole or the exterior leaks into every triangle: nothing left
+  Incomplete,         // refinement stopped early (max_vertices); the mesh is valid
+  InternalError,      // the checker found an invalid triangulation (a bug: please report)
+};
+
+struct Status {
+  StatusCode code = StatusCode::Ok;
+  std::string message;           // names the entities: "segment 12 (3-7) crosses segment 40 ..."
+  std::vector<std::int64_t> entities;  // ids of the entities named in message
+  std::vector<std::string> warnings;   // duplicates merged etc.; the mesh is still valid
+};
+
+struct Result {
+  Mesh mesh;
+  Stats stats;
+  Status status;
+  bool ok() const { return status.code == StatusCode::Ok; }
+  // The mesh is valid (possibly incomplete) and can be written.
+  bool usable() const { return status.code == StatusCode::Ok || status.code == StatusCode::Incomplete; }
+};
+
+Result mesh(const Pslg& in, const SizeSpec& size, const Options& opt = {});
+
+// Quality and size measures of any 2D triangle mesh under a size spec (kind Uniform with
+// h <= 0 means "Euclidean only").
+Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<VertId, 3>>& tris,
+                const SizeSpec& size);
+
+// Q_K (eq. 7.6) of triangle abc in the metric M (identity for Euclidean).
+double triangle_quality(Vec2 a, Vec2 b, Vec2 c, const Metric2& m = {});
+
+}  // namespace uvmesh::m2d

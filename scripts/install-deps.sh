@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Installs every Debian package the build, the tests, the benchmark and CI need.
+# Safe to run twice: apt-get only installs what is missing, and the package index
+# is refreshed only when it is older than a day (or was never fetched).
+set -euo pipefail
+
+PKGS=(
+  # build
+  build-essential cmake ninja-build pkg-config
+  # geometry kernel and subdivision (issues 3-5)
+  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
+  libocct-data-exchange-dev libocct-ocaf-dev libocct-visualization-dev
+  libosd-dev libglm-dev libtbb-dev libdraco-dev draco
+  # small well-kept libraries
+  catch2 nlohmann-json3-dev libcli11-dev libfmt-dev
+  # comparison benchmark and cross-checks (reference tools, not product deps)
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev gmsh python3-gmsh tetgen python3-meshio freefem++
+  # fuzzing and sanitizers
+  clang libclang-rt-14-dev
+  # misc test helpers
+  time
+)
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+missing=()
+for p in "${PKGS[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PKGS[@]} packages already installed"
+  exit 0
+fi
+
+stamp=/var/lib/apt/periodic/update-success-stamp
+lists=$(find /var/lib/apt/lists -maxdepth 1 -name '*Packages*' -mmin -1440 2>/dev/null | head -1 || true)
+if [ -z "$lists" ]; then
+  $SUDO apt-get update -q
+fi
+echo "install-deps: installing ${missing[*]}"
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
