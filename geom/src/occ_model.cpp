@@ -1,0 +1,345 @@
+// OCC back end of uvmesh::geom: Surface / Curve / Curve2 adapters over BRepAdaptor and
+// the topology walk that builds a Model from a TopoDS_Shape. The only translation unit
+// of geom that includes OCCT.
+#define OCC_CONVERT_SIGNALS 1
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepCheck.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepCheck_ListOfStatus.hxx>
+#include <BRepCheck_Result.hxx>
+#include <BRepTools.hxx>
+#include <BRepTools_WireExplorer.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <Geom2dAdaptor_Curve.hxx>
+#include <Geom2d_Curve.hxx>
+#include <Geom_Surface.hxx>
+#include <Standard_ErrorHandler.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Iterator.hxx>
+#include <TopoDS_Shape.hxx>
+#include <TopoDS_Wire.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "uvmesh/geom/occ.h"
+
+namespace uvmesh::geom {
+namespace {
+
+Vec3 v3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+Vec3 v3(const gp_Vec& p) { return {p.X(), p.Y(), p.Z()}; }
+Vec2 v2(const gp_Pnt2d& p) { return {p.X(), p.Y()}; }
+Vec2 v2(const gp_Vec2d& p) { return {p.X(), p.Y()}; }
+
+std::string occ_message(const Standard_Failure& f) {
+  std::string s = f.DynamicType()->Name();
+  const char* m = f.GetMessageString();
+  if (m && *m) s += std::string(": ") + m;
+  return s;
+}
+
+SurfaceKind surface_kind(GeomAbs_SurfaceType t) {
+  switch (t) {
+    case GeomAbs_Plane: return SurfaceKind::Plane;
+    case GeomAbs_Cylinder: return SurfaceKind::Cylinder;
+    case GeomAbs_Cone: return SurfaceKind::Cone;
+    case GeomAbs_Sphere: return SurfaceKind::Sphere;
+    case GeomAbs_Torus: return SurfaceKind::Torus;
+    case GeomAbs_BezierSurface: return SurfaceKind::Bezier;
+    case GeomAbs_BSplineSurface: return SurfaceKind::BSpline;
+    case GeomAbs_SurfaceOfRevolution: return SurfaceKind::Revolution;
+    case GeomAbs_SurfaceOfExtrusion: return SurfaceKind::Extrusion;
+    case GeomAbs_OffsetSurface: return SurfaceKind::Offset;
+    default: return SurfaceKind::Other;
+  }
+}
+
+CurveKind curve_kind(GeomAbs_CurveType t) {
+  switch (t) {
+    case GeomAbs_Line: return CurveKind::Line;
+    case GeomAbs_Circle: return CurveKind::Circle;
+    case GeomAbs_Ellipse: return CurveKind::Ellipse;
+    case GeomAbs_Hyperbola: return CurveKind::Hyperbola;
+    case GeomAbs_Parabola: return CurveKind::Parabola;
+    case GeomAbs_BezierCurve: return CurveKind::Bezier;
+    case GeomAbs_BSplineCurve: return CurveKind::BSpline;
+    case GeomAbs_OffsetCurve: return CurveKind::Offset;
+    default: return CurveKind::Other;
+  }
+}
+
+// Evaluation failures inside OCC (a B-spline evaluated far outside its knots, a
+// degenerate offset) become std::runtime_error naming the parameter.
+[[noreturn]] void eval_failed(const char* what, const Standard_Failure& f, double u, double v) {
+  std::ostringstream os;
+  os << "OCC " << what << " evaluation failed at (" << u << ", " << v << "): " << occ_message(f);
+  throw std::runtime_error(os.str());
+}
+
+class OccSurface final : public Surface {
+ public:
+  OccSurface(const TopoDS_Face& f, const Box2& box, double pole_rel_tol)
+      : a_(f, Standard_True), box_(box), kind_(surface_kind(a_.GetType())) {
+    up_ = a_.IsUPeriodic();
+    vp_ = a_.IsVPeriodic();
+    uper_ = up_ ? a_.UPeriod() : 0.0;
+    vper_ = vp_ ? a_.VPeriod() : 0.0;
+    // Planes and cylinders cannot have poles; everything else is sampled once here.
+    sing_ = (kind_ == SurfaceKind::Plane || kind_ == SurfaceKind::Cylinder)
+                ? 0u
+                : detect_singular_sides(*this, pole_rel_tol);
+  }
+  SurfacePoint eval(double u, double v) const override {
+    gp_Pnt p;
+    gp_Vec du, dv, duu, dvv, duv;
+    try {
+      OCC_CATCH_SIGNALS
+      a_.D2(u, v, p, du, dv, duu, dvv, duv);
+    } catch (const Standard_Failure& f) {
+      eval_failed("surface", f, u, v);
+    }
+    return {v3(p), v3(du), v3(dv), v3(duu), v3(duv), v3(dvv)};
+  }
+  Box2 bounds() const override { return box_; }
+  SurfaceKind kind() const override { return kind_; }
+  bool u_periodic() const override { return up_; }
+  bool v_periodic() const override { return vp_; }
+  double u_period() const override { return uper_; }
+  double v_period() const override { return vper_; }
+  unsigned singular_sides() const override { return sing_; }
+
+ private:
+  BRepAdaptor_Surface a_;
+  Box2 box_;
+  SurfaceKind kind_;
+  bool up_ = false, vp_ = false;
+  double uper_ = 0.0, vper_ = 0.0;
+  unsigned sing_ = 0u;
+};
+
+class OccCurve final : public Curve {
+ public:
+  explicit OccCurve(const TopoDS_Edge& e) : a_(e), kind_(curve_kind(a_.GetType())) {
+    r_ = {a_.FirstParameter(), a_.LastParameter()};
+    per_ = a_.IsPeriodic() ? a_.Period() : 0.0;
+  }
+  CurvePoint3 eval(double t) const override {
+    gp_Pnt p;
+    gp_Vec d1, d2;
+    try {
+      OCC_CATCH_SIGNALS
+      a_.D2(t, p, d1, d2);
+    } catch (const Standard_Failure& f) {
+      eval_failed("curve", f, t, 0.0);
+    }
+    return {v3(p), v3(d1), v3(d2)};
+  }
+  Interval range() const override { return r_; }
+  CurveKind kind() const override { return kind_; }
+  bool periodic() const override { return per_ > 0.0; }
+  double period() const override { return per_; }
+
+ private:
+  BRepAdaptor_Curve a_;
+  CurveKind kind_;
+  Interval r_;
+  double per_ = 0.0;
+};
+
+class OccCurve2 final : public Curve2 {
+ public:
+  OccCurve2(const Handle(Geom2d_Curve)& c, double first, double last)
+      : a_(c, first, last), kind_(curve_kind(a_.GetType())), r_{first, last} {}
+  CurvePoint2 eval(double t) const override {
+    gp_Pnt2d p;
+    gp_Vec2d d1, d2;
+    try {
+      OCC_CATCH_SIGNALS
+      a_.D2(t, p, d1, d2);
+    } catch (const Standard_Failure& f) {
+      eval_failed("pcurve", f, t, 0.0);
+    }
+    return {v2(p), v2(d1), v2(d2)};
+  }
+  Interval range() const override { return r_; }
+  CurveKind kind() const override { return kind_; }
+
+ private:
+  Geom2dAdaptor_Curve a_;
+  CurveKind kind_;
+  Interval r_;
+};
+
+std::string check_reason(const BRepCheck_Analyzer& an, const TopoDS_Face& f) {
+  // First non-OK status of the face itself, else of one of its sub-shapes.
+  auto first_bad = [&](const TopoDS_Shape& s) -> std::string {
+    const Handle(BRepCheck_Result)& r = an.Result(s);
+    if (r.IsNull()) return {};
+    for (BRepCheck_ListIteratorOfListOfStatus it(r->Status()); it.More(); it.Next()) {
+      if (it.Value() == BRepCheck_NoError) continue;
+      std::ostringstream os;
+      BRepCheck::Print(it.Value(), os);
+      std::string s2 = os.str();
+      while (!s2.empty() && (s2.back() == '\n' || s2.back() == ' ')) s2.pop_back();
+      return s2;
+    }
+    return {};
+  };
+  if (std::string s = first_bad(f); !s.empty()) return "face: " + s;
+  for (TopExp_Explorer ex(f, TopAbs_WIRE); ex.More(); ex.Next())
+    if (std::string s = first_bad(ex.Current()); !s.empty()) return "wire: " + s;
+  for (TopExp_Explorer ex(f, TopAbs_EDGE); ex.More(); ex.Next())
+    if (std::string s = first_bad(ex.Current()); !s.empty()) return "edge: " + s;
+  for (TopExp_Explorer ex(f, TopAbs_VERTEX); ex.More(); ex.Next())
+    if (std::string s = first_bad(ex.Current()); !s.empty()) return "vertex: " + s;
+  return "invalid (BRepCheck)";
+}
+
+}  // namespace
+
+Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
+  Model m;
+  std::string where = "shape";  // the entity being converted, for error messages
+  try {
+    OCC_CATCH_SIGNALS
+    TopTools_IndexedMapOfShape vmap, emap, fmap, shmap, somap;
+    TopExp::MapShapes(shape, TopAbs_VERTEX, vmap);
+    TopExp::MapShapes(shape, TopAbs_EDGE, emap);
+    TopExp::MapShapes(shape, TopAbs_FACE, fmap);
+    TopExp::MapShapes(shape, TopAbs_SHELL, shmap);
+    TopExp::MapShapes(shape, TopAbs_SOLID, somap);
+
+    m.vertices.resize(static_cast<std::size_t>(vmap.Extent()));
+    for (int i = 1; i <= vmap.Extent(); ++i) {
+      where = "vertex " + std::to_string(i - 1);
+      const TopoDS_Vertex& v = TopoDS::Vertex(vmap(i));
+      m.vertices[i - 1] = {v3(BRep_Tool::Pnt(v)), BRep_Tool::Tolerance(v)};
+    }
+
+    m.edges.resize(static_cast<std::size_t>(emap.Extent()));
+    for (int i = 1; i <= emap.Extent(); ++i) {
+      where = "edge " + std::to_string(i - 1);
+      const TopoDS_Edge e = TopoDS::Edge(emap(i).Oriented(TopAbs_FORWARD));
+      Edge& ed = m.edges[i - 1];
+      ed.tol = BRep_Tool::Tolerance(e);
+      ed.degenerate = BRep_Tool::Degenerated(e);
+      TopoDS_Vertex vf, vl;
+      TopExp::Vertices(e, vf, vl);
+      if (!vf.IsNull()) ed.v0 = vmap.FindIndex(vf) - 1;
+      if (!vl.IsNull()) ed.v1 = vmap.FindIndex(vl) - 1;
+      double f = 0.0, l = 0.0;
+      BRep_Tool::Range(e, f, l);
+      ed.range = {f, l};
+      // An edge without a 3D curve (degenerate, or some IGES edges known only by their
+      // pcurves): BRepAdaptor_Curve falls back to the curve on surface when there is one.
+      if (!ed.degenerate) {
+        ed.curve = std::make_shared<OccCurve>(e);
+        ed.range = ed.curve->range();
+        ed.length = arc_length(*ed.curve, ed.range.lo, ed.range.hi);
+      }
+    }
+
+    m.faces.resize(static_cast<std::size_t>(fmap.Extent()));
+    for (int i = 1; i <= fmap.Extent(); ++i) {
+      where = "face " + std::to_string(i - 1);
+      const TopoDS_Face& face0 = TopoDS::Face(fmap(i));
+      Face& fc = m.faces[i - 1];
+      fc.reversed = face0.Orientation() == TopAbs_REVERSED;
+      const TopoDS_Face ff = TopoDS::Face(face0.Oriented(TopAbs_FORWARD));
+      fc.tol = BRep_Tool::Tolerance(ff);
+      double u0 = 0, u1 = 0, w0 = 0, w1 = 0;
+      BRepTools::UVBounds(ff, u0, u1, w0, w1);
+      fc.uv_box = {{u0, u1}, {w0, w1}};
+      if (!BRep_Tool::Surface(ff).IsNull()) {
+        auto s = std::make_shared<OccSurface>(ff, fc.uv_box, opt.pole_rel_tol);
+        fc.kind = s->kind();
+        fc.surface = std::move(s);
+      }
+      const TopoDS_Wire outer = BRepTools::OuterWire(ff);
+      for (TopoDS_Iterator wit(ff); wit.More(); wit.Next()) {
+        if (wit.Value().ShapeType() != TopAbs_WIRE) continue;
+        const TopoDS_Wire w = TopoDS::Wire(wit.Value());
+        Loop loop;
+        loop.outer = !outer.IsNull() && w.IsSame(outer);
+        int n_edges = 0;
+        for (TopoDS_Iterator it(w); it.More(); it.Next()) ++n_edges;
+        std::vector<TopoDS_Edge> order;
+        // Connected order from the wire explorer; a wire it cannot chain (disconnected
+        // or non-manifold) keeps its stored order instead of losing edges.
+        for (BRepTools_WireExplorer wex(w, ff); wex.More(); wex.Next()) order.push_back(wex.Current());
+        if (static_cast<int>(order.size()) != n_edges) {
+          order.clear();
+          for (TopoDS_Iterator it(w); it.More(); it.Next())
+            if (it.Value().ShapeType() == TopAbs_EDGE) order.push_back(TopoDS::Edge(it.Value()));
+        }
+        for (const TopoDS_Edge& e : order) {
+          EdgeUse u;
+          u.edge = emap.FindIndex(e) - 1;
+          u.reversed = e.Orientation() == TopAbs_REVERSED;
+          u.seam = BRep_Tool::IsClosed(e, ff);
+          double f = 0.0, l = 0.0;
+          Handle(Geom2d_Curve) c2 = BRep_Tool::CurveOnSurface(e, ff, f, l);
+          if (!c2.IsNull()) u.pcurve = std::make_shared<OccCurve2>(c2, f, l);
+          u.range = {f, l};
+          loop.uses.push_back(std::move(u));
+        }
+        fc.loops.push_back(std::move(loop));
+      }
+      std::stable_sort(fc.loops.begin(), fc.loops.end(),
+                       [](const Loop& a, const Loop& b) { return a.outer && !b.outer; });
+      if (opt.check_validity) {
+        BRepCheck_Analyzer an(face0, Standard_True);
+        fc.valid = an.IsValid();
+        if (!fc.valid) fc.invalid_reason = check_reason(an, face0);
+      }
+    }
+
+    m.shells.resize(static_cast<std::size_t>(shmap.Extent()));
+    for (int i = 1; i <= shmap.Extent(); ++i) {
+      where = "shell " + std::to_string(i - 1);
+      Shell& sh = m.shells[i - 1];
+      sh.closed = BRep_Tool::IsClosed(shmap(i));
+      for (TopExp_Explorer ex(shmap(i), TopAbs_FACE); ex.More(); ex.Next()) {
+        const Id f = fmap.FindIndex(ex.Current()) - 1;
+        if (std::find(sh.faces.begin(), sh.faces.end(), f) == sh.faces.end()) sh.faces.push_back(f);
+        if (m.faces[f].shell == kNone) m.faces[f].shell = i - 1;
+      }
+    }
+    m.solids.resize(static_cast<std::size_t>(somap.Extent()));
+    for (int i = 1; i <= somap.Extent(); ++i) {
+      Solid& so = m.solids[i - 1];
+      for (TopExp_Explorer ex(somap(i), TopAbs_SHELL); ex.More(); ex.Next()) {
+        const Id s = shmap.FindIndex(ex.Current()) - 1;
+        if (std::find(so.shells.begin(), so.shells.end(), s) == so.shells.end()) so.shells.push_back(s);
+      }
+    }
+
+    where = "bounding box";
+    Bnd_Box box;
+    BRepBndLib::Add(shape, box, Standard_False);
+    if (!box.IsVoid()) {
+      double x0, y0, z0, x1, y1, z1;
+      box.Get(x0, y0, z0, x1, y1, z1);
+      m.bbox.add(Vec3(x0, y0, z0));
+      m.bbox.add(Vec3(x1, y1, z1));
+    }
+  } catch (const Standard_Failure& f) {
+    throw std::runtime_error("OpenCASCADE failed while converting " + where + ": " + occ_message(f));
+  }
+  return m;
+}
+
+}  // namespace uvmesh::geom
