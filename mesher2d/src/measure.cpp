@@ -1,1 +1,135 @@
-// placeholder while the stage is written
+// Quality and size measures (reference chapter eq. 7.6-7.7 for shape, eq. 7.10 for size).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_set>
+
+#include "metric_util.h"
+#include "uvmesh/mesher2d/mesher2d.h"
+
+namespace uvmesh::m2d {
+
+namespace {
+constexpr double kAlpha = 0.28867513459481287;  // sqrt(3)/6: Q = 1 for the equilateral
+constexpr double kPi = 3.14159265358979323846;
+
+struct Shape {
+  double q;        // Q_K
+  double amin, amax;  // angles in degrees
+};
+
+Shape shape(Vec2 a, Vec2 b, Vec2 c) {
+  const double ab = std::hypot(b.x - a.x, b.y - a.y);
+  const double bc = std::hypot(c.x - b.x, c.y - b.y);
+  const double ca = std::hypot(a.x - c.x, a.y - c.y);
+  const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  const double hmax = std::max({ab, bc, ca});
+  Shape s;
+  if (!(area2 > 0)) return {std::numeric_limits<double>::infinity(), 0, 180};
+  // rho = 2 * area / perimeter = area2 / (ab + bc + ca)
+  s.q = kAlpha * hmax * (ab + bc + ca) / area2;
+  auto ang = [](double o1, double o2, double opp) {
+    double cs = (o1 * o1 + o2 * o2 - opp * opp) / (2 * o1 * o2);
+    cs = std::clamp(cs, -1.0, 1.0);
+    return std::acos(cs) * 180.0 / kPi;
+  };
+  const double A = ang(ab, ca, bc), B = ang(ab, bc, ca), C = 180.0 - A - B;
+  s.amin = std::min({A, B, C});
+  s.amax = std::max({A, B, C});
+  return s;
+}
+}  // namespace
+
+double triangle_quality(Vec2 a, Vec2 b, Vec2 c, const Metric2& m) {
+  const detail::MetricFrame f(m);
+  return shape(f(a), f(b), f(c)).q;
+}
+
+Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<VertId, 3>>& tris,
+                const SizeSpec& size) {
+  Quality out;
+  if (tris.empty()) return out;
+  const bool has_metric = !(size.kind == SizeSpec::Kind::Uniform && size.h <= 0);
+  std::vector<Metric2> vm;
+  if (has_metric) {
+    vm.resize(vertices.size());
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      vm[i] = detail::metric_at(size, vertices[i].x, vertices[i].y);
+  }
+  double qsum = 0, mqsum = 0;
+  std::int64_t n15 = 0, n2 = 0, mn15 = 0, mn2 = 0;
+  out.min_angle_deg = 180;
+  out.metric_min_angle_deg = 180;
+  for (const auto& t : tris) {
+    const Vec2 a = vertices[t[0]], b = vertices[t[1]], c = vertices[t[2]];
+    const Shape s = shape(a, b, c);
+    out.q_max = std::max(out.q_max, s.q);
+    qsum += s.q;
+    n15 += s.q < 1.5;
+    n2 += s.q < 2;
+    out.min_angle_deg = std::min(out.min_angle_deg, s.amin);
+    out.max_angle_deg = std::max(out.max_angle_deg, s.amax);
+    if (has_metric) {
+      // Shape in the metric: the mean of the vertex metrics (a convex combination of SPD
+      // tensors is SPD) stands for the metric over K.
+      const Metric2 m = detail::mean3(vm[t[0]], vm[t[1]], vm[t[2]]);
+      const detail::MetricFrame f(m);
+      const Shape ms = shape(f(a), f(b), f(c));
+      out.metric_q_max = std::max(out.metric_q_max, ms.q);
+      mqsum += ms.q;
+      mn15 += ms.q < 1.5;
+      mn2 += ms.q < 2;
+      out.metric_min_angle_deg = std::min(out.metric_min_angle_deg, ms.amin);
+      out.metric_max_angle_deg = std::max(out.metric_max_angle_deg, ms.amax);
+    }
+  }
+  const double nt = static_cast<double>(tris.size());
+  out.q_mean = qsum / nt;
+  out.share_q_below_1_5 = n15 / nt;
+  out.share_q_below_2 = n2 / nt;
+  if (!has_metric) {
+    out.metric_q_max = out.q_max;
+    out.metric_q_mean = out.q_mean;
+    out.metric_share_q_below_1_5 = out.share_q_below_1_5;
+    out.metric_share_q_below_2 = out.share_q_below_2;
+    out.metric_min_angle_deg = out.min_angle_deg;
+    out.metric_max_angle_deg = out.max_angle_deg;
+    return out;
+  }
+  out.metric_q_mean = mqsum / nt;
+  out.metric_share_q_below_1_5 = mn15 / nt;
+  out.metric_share_q_below_2 = mn2 / nt;
+
+  // Unit-edge share: every undirected edge once, length in the metric by eq. 7.10 with
+  // Simpson's rule on the true field (endpoints and midpoint).
+  std::vector<std::uint64_t> edges;
+  edges.reserve(tris.size() * 3);
+  for (const auto& t : tris)
+    for (int i = 0; i < 3; ++i) {
+      std::uint64_t a = static_cast<std::uint32_t>(t[i]), b = static_cast<std::uint32_t>(t[(i + 1) % 3]);
+      if (a > b) std::swap(a, b);
+      edges.push_back(a << 32 | b);
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::int64_t unit = 0;
+  double lsum = 0;
+  out.edge_len_min = std::numeric_limits<double>::infinity();
+  for (const std::uint64_t e : edges) {
+    const VertId a = static_cast<VertId>(e >> 32), b = static_cast<VertId>(e & 0xFFFFFFFFu);
+    const Vec2 pa = vertices[a], pb = vertices[b];
+    const Vec2 d{pb.x - pa.x, pb.y - pa.y};
+    const Metric2 mm = detail::metric_at(size, 0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y));
+    const double l = (detail::length(vm[a], d) + 4 * detail::length(mm, d) + detail::length(vm[b], d)) / 6;
+    unit += (l >= 0.7071067811865476 && l <= 1.4142135623730951);
+    lsum += l;
+    out.edge_len_min = std::min(out.edge_len_min, l);
+    out.edge_len_max = std::max(out.edge_len_max, l);
+  }
+  out.edges = static_cast<std::int64_t>(edges.size());
+  out.unit_edge_share = static_cast<double>(unit) / static_cast<double>(edges.size());
+  out.edge_len_mean = lsum / static_cast<double>(edges.size());
+  return out;
+}
+
+}  // namespace uvmesh::m2d

@@ -1,1 +1,877 @@
-// placeholder while the stage is written
+// The mesher2d pipeline: classical Delaunay meshing (§7.3.1) governed by a size or metric
+// field (§7.5, §7.6.1). Stages and their sections are listed in mesher2d.h.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <unordered_set>
+
+#include "metric_util.h"
+#include "triangulation.h"
+#include "uvmesh/mesher2d/check.h"
+#include "uvmesh/mesher2d/mesher2d.h"
+#include "uvmesh/mesher2d/predicates.h"
+
+namespace uvmesh::m2d {
+
+namespace {
+
+using detail::InsertParams;
+using detail::InsertStatus;
+using detail::Triangulation;
+
+// Unit mesh bounds (§7.5.2): an edge conforms when its metric length is in [1/sqrt2, sqrt2].
+constexpr double kSqrt2 = 1.4142135623730951;
+// Field-point filter (§7.3.5): a candidate closer than this (metric length) to an existing
+// vertex is dropped. Just above 1/sqrt2, so that no edge shorter than the unit-mesh lower
+// bound is created by refinement.
+constexpr double kFilterDist = 0.74;
+// Saturation waves stop when no edge is longer than sqrt2 or after this many waves.
+constexpr int kMaxWaves = 200;
+// Coordinates beyond this magnitude could overflow the exact predicates' products.
+constexpr double kMaxCoord = 1e100;
+
+std::string fmt_pt(Vec2 p) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.17g, %.17g)", p.x, p.y);
+  return buf;
+}
+
+// Hilbert index of (x, y) in [0, 2^16)^2: the spatial order of batch insertion (§7.3.2).
+std::uint32_t hilbert_d(std::uint32_t x, std::uint32_t y) {
+  std::uint32_t d = 0;
+  for (std::uint32_t s = 1u << 15; s > 0; s >>= 1) {
+    const std::uint32_t rx = (x & s) ? 1 : 0;
+    const std::uint32_t ry = (y & s) ? 1 : 0;
+    d += s * s * ((3 * rx) ^ ry);
+    if (ry == 0) {  // rotate the quadrant
+      if (rx == 1) {
+        x = s - 1 - x;
+        y = s - 1 - y;
+      }
+      std::swap(x, y);
+    }
+  }
+  return d;
+}
+
+struct SegRec {
+  VertId a, b;
+  int marker;
+  std::int32_t input;  // input segment index; -1 for convex hull edges
+  bool alive = true;
+};
+
+double q_inv(Vec2 a, Vec2 b, Vec2 c) {
+  // 1 / Q_K (eq. 7.6) = rho / (alpha hmax): 1 for the equilateral, 0 for flat.
+  const double ab2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
+  const double bc2 = (c.x - b.x) * (c.x - b.x) + (c.y - b.y) * (c.y - b.y);
+  const double ca2 = (a.x - c.x) * (a.x - c.x) + (a.y - c.y) * (a.y - c.y);
+  const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  if (!(area2 > 0)) return area2 == 0 ? 0.0 : -1.0;
+  const double per = std::sqrt(ab2) + std::sqrt(bc2) + std::sqrt(ca2);
+  const double hmax = std::sqrt(std::max({ab2, bc2, ca2}));
+  return area2 / (per * hmax * 0.28867513459481287);
+}
+
+class Mesher {
+ public:
+  Mesher(const Pslg& in, const SizeSpec& size, const Options& opt, Result& res)
+      : in_(in), size_(size), opt_(opt), res_(res) {}
+
+  void run() {
+    auto t0 = Clock::now();
+    if (!validate()) return;
+    merge_duplicates();
+    build_segments();
+    stage("input", t0);
+    if (opt_.refine && opt_.split_segments) discretize_boundary();
+    stage("boundary discretization", t0);
+    if (!triangulate()) return;
+    stage("delaunay", t0);
+    if (!enforce_all()) return;
+    stage("boundary enforcement", t0);
+    if (!color()) return;
+    stage("coloring", t0);
+    if (opt_.check && !internal_check("after coloring")) return;
+    if (opt_.refine && refine_ok_) {
+      refine();
+      stage("field points", t0);
+      if (opt_.check && !internal_check("after field points")) return;
+      if (opt_.optimize) {
+        optimize();
+        stage("optimization", t0);
+        if (opt_.check && !internal_check("after optimization")) return;
+      }
+    }
+    output();
+    stage("output", t0);
+    if (field_error_) return;
+    res_.stats.quality = measure(res_.mesh.vertices, res_.mesh.triangles, measure_spec());
+    stage("measure", t0);
+    if (opt_.check) {
+      CheckReport rep = check(res_.mesh, in_, {.delaunay = !opt_.refine});
+      if (!rep.ok()) fail(StatusCode::InternalError, "checker: " + rep.errors.front());
+    }
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void stage(const char* name, Clock::time_point& t0) {
+    const auto t1 = Clock::now();
+    res_.stats.stages.push_back({name, std::chrono::duration<double>(t1 - t0).count()});
+    t0 = t1;
+  }
+  bool fail(StatusCode c, std::string msg, std::vector<std::int64_t> ent = {}) {
+    res_.status.code = c;
+    res_.status.message = std::move(msg);
+    res_.status.entities = std::move(ent);
+    return false;
+  }
+
+  // ---------------------------------------------------------------- size field
+  SizeSpec measure_spec() const {
+    if (size_.kind == SizeSpec::Kind::Uniform) return SizeSpec::uniform(h_uniform_);
+    return size_;
+  }
+  // The metric at (x, y), validated (SPD, finite) and capped in anisotropy.
+  Metric2 metric(double x, double y) {
+    Metric2 m;
+    if (size_.kind == SizeSpec::Kind::Uniform) return m_uniform_;
+    if (size_.kind == SizeSpec::Kind::Scalar) {
+      const double h = size_.size(x, y);
+      if (!(h > 0) || !std::isfinite(h)) {
+        field_fail("the size field returned h = " + std::to_string(h) + " at " + fmt_pt({x, y}));
+        return m_uniform_;
+      }
+      return Metric2::iso(h);
+    }
+    m = size_.metric(x, y);
+    const double det = m.m11 * m.m22 - m.m12 * m.m12;
+    if (!(m.m11 > 0) || !(m.m22 > 0) || !(det > 0) || !std::isfinite(m.m11) ||
+        !std::isfinite(m.m12) || !std::isfinite(m.m22)) {
+      field_fail("the metric field is not symmetric positive definite at " + fmt_pt({x, y}));
+      return m_uniform_;
+    }
+    return detail::cap_anisotropy(m, opt_.max_anisotropy);
+  }
+  void field_fail(std::string msg) {
+    if (!field_error_) fail(StatusCode::InvalidInput, std::move(msg));
+    field_error_ = true;
+  }
+
+  // ---------------------------------------------------------------- 1. input
+  bool validate() {
+    const std::size_t n = in_.points.size();
+    if (n == 0) return fail(StatusCode::InvalidInput, "empty PSLG: no points");
+    if (!in_.point_markers.empty() && in_.point_markers.size() != n)
+      return fail(StatusCode::InvalidInput, "point_markers has " + std::to_string(in_.point_markers.size()) +
+                                                " entries for " + std::to_string(n) + " points");
+    auto bad = [](Vec2 p) {
+      return !std::isfinite(p.x) || !std::isfinite(p.y) || std::abs(p.x) > kMaxCoord ||
+             std::abs(p.y) > kMaxCoord;
+    };
+    for (std::size_t i = 0; i < n; ++i)
+      if (bad(in_.points[i]))
+        return fail(StatusCode::InvalidInput,
+                    "point " + std::to_string(i) + " has a non-finite or out-of-range coordinate " +
+                        fmt_pt(in_.points[i]),
+                    {static_cast<std::int64_t>(i)});
+    for (std::size_t i = 0; i < in_.segments.size(); ++i) {
+      const auto& s = in_.segments[i];
+      for (VertId v : {s.a, s.b})
+        if (v < 0 || static_cast<std::size_t>(v) >= n)
+          return fail(StatusCode::InvalidInput,
+                      "segment " + std::to_string(i) + " references point " + std::to_string(v) +
+                          ", but there are " + std::to_string(n) + " points",
+                      {static_cast<std::int64_t>(i)});
+    }
+    for (std::size_t i = 0; i < in_.holes.size(); ++i)
+      if (bad(in_.holes[i]))
+        return fail(StatusCode::InvalidInput, "hole " + std::to_string(i) + " has a non-finite coordinate",
+                    {static_cast<std::int64_t>(i)});
+    for (std::size_t i = 0; i < in_.regions.size(); ++i)
+      if (bad(in_.regions[i].seed) || !std::isfinite(in_.regions[i].attribute))
+        return fail(StatusCode::InvalidInput, "region " + std::to_string(i) + " has a non-finite value",
+                    {static_cast<std::int64_t>(i)});
+    switch (size_.kind) {
+      case SizeSpec::Kind::Uniform:
+        if (!std::isfinite(size_.h)) return fail(StatusCode::InvalidInput, "uniform size is not finite");
+        break;
+      case SizeSpec::Kind::Scalar:
+        if (!size_.size) return fail(StatusCode::InvalidInput, "scalar size field without a function");
+        break;
+      case SizeSpec::Kind::Metric:
+        if (!size_.metric) return fail(StatusCode::InvalidInput, "metric size field without a function");
+        break;
+    }
+    if (!(opt_.max_anisotropy >= 1)) return fail(StatusCode::InvalidInput, "max_anisotropy must be >= 1");
+    return true;
+  }
+
+  void merge_duplicates() {
+    const std::size_t n = in_.points.size();
+    std::vector<std::int32_t> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+      const Vec2 &p = in_.points[a], &q = in_.points[b];
+      if (p.x != q.x) return p.x < q.x;
+      if (p.y != q.y) return p.y < q.y;
+      return a < b;
+    });
+    rep_.assign(n, -1);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::int32_t i = order[k];
+      if (k > 0) {
+        const std::int32_t j = order[k - 1];
+        if (in_.points[i].x == in_.points[j].x && in_.points[i].y == in_.points[j].y) {
+          rep_[i] = rep_[j];
+          continue;
+        }
+      }
+      rep_[i] = i;
+    }
+    std::int64_t dup = 0;
+    for (std::size_t i = 0; i < n; ++i) dup += rep_[i] != static_cast<std::int32_t>(i);
+    res_.stats.duplicates_merged = dup;
+    if (dup > 0) {
+      for (std::size_t i = 0; i < n; ++i)
+        if (rep_[i] != static_cast<std::int32_t>(i)) {
+          res_.status.warnings.push_back(std::to_string(dup) + " duplicate point(s) merged (first: point " +
+                                         std::to_string(i) + " duplicates point " +
+                                         std::to_string(rep_[i]) + ")");
+          break;
+        }
+    }
+  }
+
+  void build_segments() {
+    std::unordered_set<std::uint64_t> seen;
+    std::int64_t degenerate = 0, repeated = 0;
+    for (std::size_t i = 0; i < in_.segments.size(); ++i) {
+      const auto& s = in_.segments[i];
+      const VertId a = rep_[s.a], b = rep_[s.b];
+      if (a == b) {
+        ++degenerate;
+        continue;
+      }
+      const std::uint64_t key = static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
+      if (!seen.insert(key).second) {
+        ++repeated;
+        continue;
+      }
+      segs_.push_back({a, b, s.marker, static_cast<std::int32_t>(i)});
+    }
+    if (degenerate) res_.status.warnings.push_back(std::to_string(degenerate) + " zero-length segment(s) ignored");
+    if (repeated) res_.status.warnings.push_back(std::to_string(repeated) + " repeated segment(s) ignored");
+    // Size for "uniform, h <= 0": the mean input segment length (the chapter's step size
+    // from the boundary, §7.3.5 preliminary requirements).
+    h_uniform_ = size_.h;
+    if (size_.kind == SizeSpec::Kind::Uniform && !(h_uniform_ > 0)) {
+      double sum = 0;
+      for (const auto& s : segs_) {
+        const Vec2 a = in_.points[s.a], b = in_.points[s.b];
+        sum += std::hypot(b.x - a.x, b.y - a.y);
+      }
+      if (segs_.empty() || !(sum > 0)) {
+        refine_ok_ = false;
+        h_uniform_ = 1;
+      } else {
+        h_uniform_ = sum / static_cast<double>(segs_.size());
+      }
+    }
+    m_uniform_ = Metric2::iso(h_uniform_);
+  }
+
+  // ---------------------------------------------------------------- 2. boundary
+  // Curves first: every segment is split at unit length in the metric (eq. 7.10),
+  // computed on a piecewise subdivision fine enough (pieces of metric length <= 1/4) to
+  // follow a varying field.
+  void discretize_boundary() {
+    std::vector<SegRec> out;
+    out.reserve(segs_.size());
+    std::vector<double> ts, cum;
+    for (const SegRec& s : segs_) {
+      const Vec2 a = in_.points[s.a], b = in_.points[s.b];
+      const Vec2 d{b.x - a.x, b.y - a.y};
+      ts.assign({0.0, 1.0});
+      std::vector<double> len_at{detail::length(metric(a.x, a.y), d), detail::length(metric(b.x, b.y), d)};
+      // refine the sampling until each piece is short in the metric
+      for (int it = 0; it < 40; ++it) {
+        std::vector<double> nts{ts[0]}, nl{len_at[0]};
+        bool split = false;
+        for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
+          const double piece = (ts[k + 1] - ts[k]) * 0.5 * (len_at[k] + len_at[k + 1]);
+          if (piece > 0.25 && nts.size() < 1'000'000) {
+            const double tm = 0.5 * (ts[k] + ts[k + 1]);
+            nts.push_back(tm);
+            nl.push_back(detail::length(metric(a.x + tm * d.x, a.y + tm * d.y), d));
+            split = true;
+          }
+          nts.push_back(ts[k + 1]);
+          nl.push_back(len_at[k + 1]);
+        }
+        ts.swap(nts);
+        len_at.swap(nl);
+        if (!split) break;
+      }
+      cum.assign(ts.size(), 0.0);
+      for (std::size_t k = 1; k < ts.size(); ++k)
+        cum[k] = cum[k - 1] + (ts[k] - ts[k - 1]) * 0.5 * (len_at[k - 1] + len_at[k]);
+      const double L = cum.back();
+      const int n = std::max(1, static_cast<int>(std::lround(L)));
+      VertId prev = s.a;
+      std::size_t k = 0;
+      for (int j = 1; j < n; ++j) {
+        const double target = L * j / n;
+        while (k + 1 < cum.size() && cum[k + 1] < target) ++k;
+        const double f = (target - cum[k]) / std::max(cum[k + 1] - cum[k], 1e-300);
+        const double t = ts[k] + f * (ts[k + 1] - ts[k]);
+        const Vec2 p{a.x + t * d.x, a.y + t * d.y};
+        const VertId v = static_cast<VertId>(extra_pts_.size() + in_.points.size());
+        extra_pts_.push_back(p);
+        extra_marker_.push_back(s.marker);
+        out.push_back({prev, v, s.marker, s.input});
+        prev = v;
+      }
+      out.push_back({prev, s.b, s.marker, s.input});
+    }
+    segs_.swap(out);
+  }
+
+  // "Point index" space used before triangulation: input points 0..n-1, then extra points.
+  Vec2 point(VertId i) const {
+    const std::size_t n = in_.points.size();
+    return static_cast<std::size_t>(i) < n ? in_.points[i] : extra_pts_[i - n];
+  }
+
+  // ---------------------------------------------------------------- 3. Delaunay
+  bool triangulate() {
+    const std::size_t n = in_.points.size();
+    const std::size_t ntot = n + extra_pts_.size();
+    double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+    for (std::size_t i = 0; i < ntot; ++i) {
+      const Vec2 p = point(static_cast<VertId>(i));
+      xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x);
+      ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
+    }
+    double ext = std::max(xmax - xmin, ymax - ymin);
+    if (!(ext > 0)) ext = std::max(1.0, std::abs(xmin) + std::abs(ymin));
+    // The box (§7.3.2): far enough that box corners never matter inside the domain.
+    const double m = 2.0 * ext;
+    tri_.init_box(xmin - m, ymin - m, xmax + m, ymax + m, ntot + 16);
+    vid_.assign(ntot, kNone);
+    // Batch insertion in Hilbert order.
+    std::vector<std::pair<std::uint32_t, VertId>> order;
+    order.reserve(ntot);
+    const double sx = 65535.0 / std::max(xmax - xmin, 1e-300), sy = 65535.0 / std::max(ymax - ymin, 1e-300);
+    for (std::size_t i = 0; i < ntot; ++i) {
+      if (i < n && rep_[i] != static_cast<std::int32_t>(i)) continue;
+      const Vec2 p = point(static_cast<VertId>(i));
+      const auto qx = static_cast<std::uint32_t>(std::clamp((p.x - xmin) * sx, 0.0, 65535.0));
+      const auto qy = static_cast<std::uint32_t>(std::clamp((p.y - ymin) * sy, 0.0, 65535.0));
+      order.push_back({hilbert_d(qx, qy), static_cast<VertId>(i)});
+    }
+    std::sort(order.begin(), order.end());
+    fixed_.assign(4, 1);
+    vmark_.assign(4, 0);
+    InsertParams prm;
+    TriId hint = 0;
+    for (const auto& [key, i] : order) {
+      const VertId v = tri_.add_vertex(point(i));
+      const auto r = tri_.insert(v, hint, prm);
+      if (r.status == InsertStatus::Duplicate) {
+        // A boundary split point landing exactly on another point: use that one.
+        tri_.pts.pop_back();
+        tri_.vtri.pop_back();
+        vid_[i] = r.v;
+        continue;
+      }
+      if (r.status != InsertStatus::Inserted)
+        return fail(StatusCode::InternalError, "could not insert point " + std::to_string(i) + " " + fmt_pt(point(i)));
+      vid_[i] = v;
+      fixed_.push_back(1);
+      vmark_.push_back(static_cast<std::size_t>(i) < n
+                           ? (in_.point_markers.empty() ? 0 : in_.point_markers[i])
+                           : extra_marker_[i - n]);
+      hint = tri_.vtri[v];
+    }
+    for (std::size_t i = 0; i < n; ++i) vid_[i] = vid_[rep_[i]];
+    for (auto& s : segs_) {
+      s.a = vid_[s.a];
+      s.b = vid_[s.b];
+    }
+    return true;
+  }
+
+  // ---------------------------------------------------------------- 4. enforcement
+  bool enforce_all() {
+    if (segs_.empty() && opt_.triangulate_hull_without_segments) {
+      if (!add_hull()) return false;
+    }
+    std::vector<std::int32_t> work(segs_.size());
+    std::iota(work.begin(), work.end(), 0);
+    std::reverse(work.begin(), work.end());
+    std::int64_t budget = 16 * static_cast<std::int64_t>(segs_.size()) + 4096;
+    while (!work.empty()) {
+      const std::int32_t sid = work.back();
+      work.pop_back();
+      SegRec s = segs_[sid];
+      if (!s.alive || s.a == s.b) continue;
+      if (--budget < 0) return fail(StatusCode::InternalError, "boundary enforcement did not converge");
+      const auto r = tri_.enforce(s.a, s.b, sid);
+      using ES = Triangulation::EnforceStatus;
+      if (r.status == ES::Ok) continue;
+      if (r.status == ES::ThroughVertex) {
+        // A segment passing through a vertex is split there.
+        segs_[sid].alive = false;
+        ++res_.stats.segments_split_at_vertices;
+        work.push_back(add_seg({r.through, s.b, s.marker, s.input}));
+        work.push_back(add_seg({s.a, r.through, s.marker, s.input}));
+        continue;
+      }
+      if (r.crossing_seg == kNone)
+        return fail(StatusCode::InternalError, "boundary enforcement failed on segment " + seg_name(s));
+      const SegRec o = segs_[r.crossing_seg];
+      if (!opt_.split_crossing_segments)
+        return fail(StatusCode::CrossingSegments,
+                    "segment " + seg_name(s) + " crosses segment " + seg_name(o),
+                    {s.input, o.input});
+      // Split both at their intersection point.
+      const Vec2 pa = tri_.pts[s.a], pb = tri_.pts[s.b], pc = tri_.pts[o.a], pd = tri_.pts[o.b];
+      const double den = (pb.x - pa.x) * (pd.y - pc.y) - (pb.y - pa.y) * (pd.x - pc.x);
+      const double t = ((pc.x - pa.x) * (pd.y - pc.y) - (pc.y - pa.y) * (pd.x - pc.x)) / den;
+      const Vec2 x{pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)};
+      tri_.unconstrain(o.a, o.b);
+      segs_[r.crossing_seg].alive = false;
+      segs_[sid].alive = false;
+      InsertParams prm;
+      auto ir = tri_.insert_point(x, tri_.vtri[s.a], prm);
+      VertId xv;
+      if (ir.status == InsertStatus::Inserted) {
+        xv = ir.v;
+        fixed_.push_back(1);
+        vmark_.push_back(s.marker);
+      } else if (ir.status == InsertStatus::Duplicate) {
+        xv = ir.v;
+      } else {
+        return fail(StatusCode::CrossingSegments,
+                    "segment " + seg_name(s) + " crosses segment " + seg_name(o) +
+                        " and the crossing point could not be inserted",
+                    {s.input, o.input});
+      }
+      ++res_.stats.crossings_split;
+      for (const SegRec& ns : {SegRec{o.a, xv, o.marker, o.input}, SegRec{xv, o.b, o.marker, o.input},
+                               SegRec{xv, s.b, s.marker, s.input}, SegRec{s.a, xv, s.marker, s.input}})
+        if (ns.a != ns.b) work.push_back(add_seg(ns));
+    }
+    return true;
+  }
+  std::int32_t add_seg(SegRec s) {
+    segs_.push_back(s);
+    return static_cast<std::int32_t>(segs_.size() - 1);
+  }
+  std::string seg_name(const SegRec& s) const {
+    if (s.input < 0) return "convex hull edge";
+    const auto& o = in_.segments[s.input];
+    return std::to_string(s.input) + " (points " + std::to_string(o.a) + "-" + std::to_string(o.b) + ")";
+  }
+
+  bool add_hull() {
+    // Andrew's monotone chain with exact orientation; collinear points are left out of
+    // the hull and later split the hull edges through them (enforcement).
+    std::vector<VertId> v;
+    for (VertId i = 4; i < tri_.num_verts(); ++i) v.push_back(i);
+    auto& P = tri_.pts;
+    std::sort(v.begin(), v.end(), [&](VertId a, VertId b) {
+      return P[a].x != P[b].x ? P[a].x < P[b].x : P[a].y < P[b].y;
+    });
+    std::vector<VertId> h(2 * v.size() + 2);
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      while (k >= 2 && pred::orient2d(&P[h[k - 2]].x, &P[h[k - 1]].x, &P[v[i]].x) <= 0) --k;
+      h[k++] = v[i];
+    }
+    for (std::size_t i = v.size() - 1, t = k + 1; i-- > 0;) {
+      while (k >= t && pred::orient2d(&P[h[k - 2]].x, &P[h[k - 1]].x, &P[v[i]].x) <= 0) --k;
+      h[k++] = v[i];
+    }
+    if (k < 4) return fail(StatusCode::InvalidInput, "all points are collinear: there is no triangle to make");
+    for (std::size_t i = 0; i + 1 < k; ++i) segs_.push_back({h[i], h[i + 1], 1, -1});
+    return true;
+  }
+
+  // ---------------------------------------------------------------- 5. coloring
+  bool color() {
+    // §7.3.4: color 0 is the component of the box corners (the exterior); every other
+    // connected component (bounded by constrained edges) gets its own color.
+    const TriId nt = tri_.num_tris();
+    std::vector<std::int32_t>& comp = tri_.tag;
+    std::fill(comp.begin(), comp.end(), -1);
+    std::vector<TriId> stack;
+    std::int32_t ncomp = 0;
+    auto flood = [&](TriId s, std::int32_t c) {
+      comp[s] = c;
+      stack.push_back(s);
+      while (!stack.empty()) {
+        const TriId t = stack.back();
+        stack.pop_back();
+        for (int i = 0; i < 3; ++i) {
+          if (tri_.seg[3 * t + i] != kNone) continue;
+          const std::int32_t h = tri_.opp[3 * t + i];
+          if (h != kNone && comp[h / 3] == -1) {
+            comp[h / 3] = c;
+            stack.push_back(h / 3);
+          }
+        }
+      }
+    };
+    flood(tri_.vtri[0], ncomp++);
+    for (TriId t = 0; t < nt; ++t)
+      if (!tri_.dead(t) && comp[t] == -1) flood(t, ncomp++);
+    removed_.assign(ncomp, 0);
+    removed_[0] = 1;
+    attr_.assign(ncomp, 0.0);
+    const bool had_domain = ncomp > 1;
+    for (std::size_t i = 0; i < in_.holes.size(); ++i) {
+      const TriId t = tri_.locate(in_.holes[i], tri_.vtri[4 < tri_.num_verts() ? 4 : 0]);
+      if (t == kNone || comp[t] == 0) {
+        res_.status.warnings.push_back("hole " + std::to_string(i) + " at " + fmt_pt(in_.holes[i]) +
+                                       " lies outside the domain and was ignored");
+        continue;
+      }
+      removed_[comp[t]] = 1;
+      last_hole_ = static_cast<std::int32_t>(i);
+    }
+    for (std::size_t i = 0; i < in_.regions.size(); ++i) {
+      const TriId t = tri_.locate(in_.regions[i].seed, tri_.vtri[4 < tri_.num_verts() ? 4 : 0]);
+      if (t == kNone || removed_[comp[t]]) {
+        res_.status.warnings.push_back("region " + std::to_string(i) + " seed " + fmt_pt(in_.regions[i].seed) +
+                                       " lies outside the domain and was ignored");
+        continue;
+      }
+      attr_[comp[t]] = in_.regions[i].attribute;
+    }
+    bool any = false;
+    for (std::int32_t c = 1; c < ncomp; ++c) any |= !removed_[c];
+    if (!any) {
+      if (!had_domain)
+        return fail(StatusCode::OpenBoundary,
+                    "the segments enclose no region: the boundary is open (every triangle is "
+                    "connected to the outside)");
+      return fail(StatusCode::OpenBoundary,
+                  "hole " + std::to_string(last_hole_) + " at " + fmt_pt(in_.holes[last_hole_]) +
+                      " removes the whole domain: the boundary around it is open",
+                  {last_hole_});
+    }
+    return true;
+  }
+  bool in_domain(TriId t) const { return !tri_.dead(t) && !removed_[tri_.tag[t]]; }
+
+  // ---------------------------------------------------------------- 6. field points
+  double edge_length(VertId a, VertId b) const {
+    // eq. 7.10 with the length of AB varying geometrically between its values in the
+    // metrics of A and B (exact for a geometric size progression; the log-mean).
+    const Vec2 d{tri_.pts[b].x - tri_.pts[a].x, tri_.pts[b].y - tri_.pts[a].y};
+    const double la = detail::length(vm_[a], d), lb = detail::length(vm_[b], d);
+    const double r = lb / la;
+    if (std::abs(r - 1) < 1e-3) return 0.5 * (la + lb);
+    return (lb - la) / std::log(r);
+  }
+
+  void refine() {
+    const std::size_t nv = tri_.pts.size();
+    vm_.resize(nv);
+    for (std::size_t v = 4; v < nv; ++v) vm_[v] = metric(tri_.pts[v].x, tri_.pts[v].y);
+    vm_[0] = vm_[1] = vm_[2] = vm_[3] = m_uniform_;
+    const bool aniso = size_.kind == SizeSpec::Kind::Metric && opt_.anisotropic_kernel;
+    struct Cand {
+      Vec2 p;
+      VertId hint;
+    };
+    std::vector<Cand> cands;
+    for (int wave = 0; wave < kMaxWaves && !field_error_; ++wave) {
+      cands.clear();
+      const TriId nt = tri_.num_tris();
+      for (TriId t = 0; t < nt; ++t) {
+        if (!in_domain(t)) continue;
+        for (int i = 0; i < 3; ++i) {
+          if (tri_.seg[3 * t + i] != kNone) continue;
+          const std::int32_t g = tri_.opp[3 * t + i];
+          if (g / 3 < t) continue;  // each edge once (both sides are in the domain)
+          const VertId a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+          const double L = edge_length(a, b);
+          if (!(L > kSqrt2)) continue;
+          // §7.5.2: points at unit spacing in the metric along the edge.
+          const int n = std::max(2, static_cast<int>(std::lround(L)));
+          const Vec2 pa = tri_.pts[a], pb = tri_.pts[b];
+          const Vec2 d{pb.x - pa.x, pb.y - pa.y};
+          const double la = detail::length(vm_[a], d), lb = detail::length(vm_[b], d);
+          const double r = lb / la, lr = std::log(r);
+          for (int k = 1; k < n; ++k) {
+            const double s = L * k / n;
+            const double tt = std::abs(r - 1) < 1e-3 ? s / L : std::log1p(s * lr / la) / lr;
+            cands.push_back({{pa.x + tt * d.x, pa.y + tt * d.y}, a});
+          }
+        }
+      }
+      if (cands.empty()) break;
+      std::int64_t inserted = 0;
+      for (const Cand& c : cands) {
+        if (static_cast<std::int64_t>(tri_.pts.size()) >= opt_.max_vertices) {
+          res_.status.code = StatusCode::Incomplete;
+          res_.status.message = "refinement stopped at max_vertices = " + std::to_string(opt_.max_vertices);
+          return;
+        }
+        InsertParams prm;
+        prm.m = metric(c.p.x, c.p.y);
+        prm.use_metric = aniso;
+        prm.min_dist = kFilterDist;
+        const auto r = tri_.insert_point(c.p, tri_.vtri[c.hint], prm);
+        if (r.status == InsertStatus::Inserted) {
+          vm_.push_back(prm.m);
+          fixed_.push_back(0);
+          vmark_.push_back(0);
+          ++inserted;
+        } else {
+          ++res_.stats.field_points_rejected;
+        }
+      }
+      res_.stats.field_points_inserted += inserted;
+      res_.stats.saturation_waves = wave + 1;
+      if (inserted == 0) break;
+    }
+  }
+
+  // ---------------------------------------------------------------- 7. optimization
+  // §7.3.6 / §7.5.2 optimizations: topological (edge swaps judged by the metric quality)
+  // then metric (vertex relocation toward the ideal point of its ball), boundary fixed.
+  double quality_in(const Metric2& m, Vec2 a, Vec2 b, Vec2 c) const {
+    if (iso_uniform_) return q_inv(a, b, c);
+    const detail::MetricFrame f(m);
+    return q_inv(f(a), f(b), f(c));
+  }
+
+  std::int64_t swap_pass() {
+    std::int64_t swaps = 0;
+    const TriId nt = tri_.num_tris();
+    for (TriId t = 0; t < nt; ++t) {
+      if (!in_domain(t)) continue;
+      for (int i = 0; i < 3; ++i) {
+        const std::int32_t h = 3 * t + i;
+        if (tri_.seg[h] != kNone) continue;
+        const std::int32_t g = tri_.opp[h];
+        if (g == kNone) continue;
+        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+        const VertId d = tri_.tv[g];
+        const auto& P = tri_.pts;
+        const Metric2 m = iso_uniform_ ? Metric2{} : quad_metric(a, b, c, d);
+        const double before = std::min(quality_in(m, P[c], P[a], P[b]), quality_in(m, P[d], P[b], P[a]));
+        const double after = std::min(quality_in(m, P[c], P[a], P[d]), quality_in(m, P[d], P[b], P[c]));
+        // Swap only for a clear gain (the factor keeps cocircular quads from flipping back).
+        if (after > before * (1 + 1e-6) && tri_.flippable(h)) {
+          tri_.flip(h);
+          ++swaps;
+          break;  // t changed; its other edges are seen in a later pass
+        }
+      }
+    }
+    return swaps;
+  }
+  Metric2 quad_metric(VertId a, VertId b, VertId c, VertId d) const {
+    const Metric2 m1 = detail::mean3(vm_[a], vm_[b], vm_[c]);
+    return detail::mix(m1, vm_[d], 0.25);
+  }
+
+  std::int64_t smooth_pass() {
+    std::int64_t moved = 0;
+    std::vector<VertId> ring;  // the ball's opposite edges (ring[k], ring[k+1])
+    const VertId nv = tri_.num_verts();
+    for (VertId v = 4; v < nv; ++v) {
+      if (fixed_[v]) continue;
+      const TriId t0 = tri_.vtri[v];
+      if (t0 == kNone || !in_domain(t0)) continue;
+      ring.clear();
+      TriId t = t0;
+      bool ok = true;
+      do {
+        int k = 0;
+        while (tri_.tv[3 * t + k] != v) ++k;
+        ring.push_back(tri_.tv[3 * t + detail::next3(k)]);
+        const std::int32_t h = tri_.opp[3 * t + detail::next3(k)];  // edge (prev, v)
+        if (h == kNone) {
+          ok = false;
+          break;
+        }
+        t = h / 3;
+      } while (t != t0 && ring.size() < 64);
+      if (!ok || t != t0) continue;
+      const std::size_t n = ring.size();
+      const auto& P = tri_.pts;
+      const Vec2 pv = P[v];
+      const Metric2 m = vm_[v];
+      const detail::MetricFrame f(m);
+      auto tri_at = [&](std::size_t k, Vec2 p, double& q) {
+        // Turning through the edge (prev, v) visits the ring counter-clockwise, so the
+        // ball triangles are (p, ring[k], ring[k+1]).
+        const Vec2 a = P[ring[k]], b = P[ring[(k + 1) % n]];
+        q = iso_uniform_ ? q_inv(p, a, b) : q_inv(f(p), f(a), f(b));
+        return pred::orient2d(&p.x, &a.x, &b.x) > 0;
+      };
+      double qmin_old = 1e300;
+      for (std::size_t k = 0; k < n; ++k) {
+        double q;
+        tri_at(k, pv, q);
+        qmin_old = std::min(qmin_old, q);
+      }
+      if (qmin_old > 0.97) continue;  // already near-equilateral everywhere
+      // Ideal point of each ball triangle: the apex of the equilateral (in the metric)
+      // triangle on the opposite edge; the target is their mean (§7.4.3 "optimal point").
+      Vec2 target{0, 0};
+      const Vec2 fv = iso_uniform_ ? pv : f(pv);
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec2 a0 = P[ring[k]], b0 = P[ring[(k + 1) % n]];
+        const Vec2 a = iso_uniform_ ? a0 : f(a0), b = iso_uniform_ ? b0 : f(b0);
+        const Vec2 mid{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
+        const Vec2 e{b.x - a.x, b.y - a.y};
+        // left of a->b (toward the vertex side): rotate +90 degrees
+        target.x += mid.x - 0.8660254037844386 * e.y;
+        target.y += mid.y + 0.8660254037844386 * e.x;
+      }
+      target.x /= static_cast<double>(n);
+      target.y /= static_cast<double>(n);
+      for (const double w : {1.0, 0.5, 0.25}) {
+        const Vec2 fq{fv.x + w * (target.x - fv.x), fv.y + w * (target.y - fv.y)};
+        const Vec2 q = iso_uniform_ ? fq : f.inv(fq);
+        double qmin_new = 1e300;
+        bool valid = true;
+        for (std::size_t k = 0; k < n && valid; ++k) {
+          double qq;
+          valid = tri_at(k, q, qq);
+          qmin_new = std::min(qmin_new, qq);
+        }
+        if (valid && qmin_new > qmin_old * (1 + 1e-9)) {
+          tri_.pts[v] = q;
+          if (!iso_uniform_) vm_[v] = metric(q.x, q.y);
+          ++moved;
+          break;
+        }
+      }
+    }
+    return moved;
+  }
+
+  void optimize() {
+    iso_uniform_ = size_.kind == SizeSpec::Kind::Uniform;
+    for (int pass = 0; pass < opt_.optimize_passes && !field_error_; ++pass) {
+      const std::int64_t s = swap_pass();
+      const std::int64_t r = smooth_pass();
+      res_.stats.swaps += s;
+      res_.stats.relocations += r;
+      if (s == 0 && r == 0) break;
+    }
+    res_.stats.swaps += swap_pass();
+  }
+
+  // ---------------------------------------------------------------- checks, output
+  bool internal_check(const char* when) {
+    const TriId nt = tri_.num_tris();
+    for (TriId t = 0; t < nt; ++t) {
+      if (tri_.dead(t)) continue;
+      const auto& P = tri_.pts;
+      const VertId a = tri_.tv[3 * t], b = tri_.tv[3 * t + 1], c = tri_.tv[3 * t + 2];
+      if (pred::orient2d(&P[a].x, &P[b].x, &P[c].x) <= 0)
+        return fail(StatusCode::InternalError, std::string("checker ") + when + ": triangle " + std::to_string(t) + " is not CCW");
+      for (int i = 0; i < 3; ++i) {
+        const std::int32_t h = 3 * t + i, g = tri_.opp[h];
+        if (g == kNone) continue;
+        if (tri_.opp[g] != h || tri_.dead(g / 3) || tri_.seg[g] != tri_.seg[h] ||
+            tri_.tv[3 * (g / 3) + detail::next3(g % 3)] != tri_.tv[3 * t + detail::prev3(i)])
+          return fail(StatusCode::InternalError, std::string("checker ") + when + ": neighbours of triangle " +
+                                                     std::to_string(t) + " are not symmetric");
+      }
+    }
+    return true;
+  }
+
+  void output() {
+    Mesh& M = res_.mesh;
+    const VertId nv = tri_.num_verts();
+    std::vector<VertId> newid(nv, kNone);
+    const std::size_t n = in_.points.size();
+    // Input points keep their relative order first, then every created vertex.
+    std::vector<char> used(nv, 0);
+    const TriId nt = tri_.num_tris();
+    for (TriId t = 0; t < nt; ++t)
+      if (in_domain(t))
+        for (int i = 0; i < 3; ++i) used[tri_.tv[3 * t + i]] = 1;
+    auto take = [&](VertId v) {
+      if (v == kNone || !used[v] || newid[v] != kNone) return;
+      newid[v] = static_cast<VertId>(M.vertices.size());
+      M.vertices.push_back(tri_.pts[v]);
+      M.vertex_markers.push_back(vmark_[v]);
+    };
+    for (std::size_t i = 0; i < n; ++i) take(vid_[i]);
+    for (VertId v = 4; v < nv; ++v) take(v);
+    M.input_vertex.resize(n);
+    for (std::size_t i = 0; i < n; ++i) M.input_vertex[i] = vid_[i] == kNone ? kNone : newid[vid_[i]];
+    std::vector<std::int32_t> region_id(removed_.size(), -1);
+    std::int32_t nreg = 0;
+    for (TriId t = 0; t < nt; ++t) {
+      if (!in_domain(t)) continue;
+      const std::int32_t c = tri_.tag[t];
+      if (region_id[c] < 0) region_id[c] = nreg++;
+      M.triangles.push_back({newid[tri_.tv[3 * t]], newid[tri_.tv[3 * t + 1]], newid[tri_.tv[3 * t + 2]]});
+      M.triangle_region.push_back(region_id[c]);
+      M.triangle_attribute.push_back(attr_[c]);
+      for (int i = 0; i < 3; ++i) {
+        const std::int32_t h = 3 * t + i;
+        const std::int32_t s = tri_.seg[h];
+        if (s == kNone) continue;
+        const std::int32_t g = tri_.opp[h];
+        if (g != kNone && in_domain(g / 3) && g / 3 < t) continue;  // once per edge
+        M.boundary_edges.push_back({newid[tri_.tv[3 * t + detail::next3(i)]],
+                                    newid[tri_.tv[3 * t + detail::prev3(i)]], segs_[s].marker});
+      }
+    }
+  }
+
+  const Pslg& in_;
+  const SizeSpec& size_;
+  const Options& opt_;
+  Result& res_;
+  Triangulation tri_;
+  std::vector<std::int32_t> rep_;   // input point -> representative input point
+  std::vector<VertId> vid_;         // point index -> triangulation vertex
+  std::vector<Vec2> extra_pts_;     // boundary split points
+  std::vector<int> extra_marker_;
+  std::vector<SegRec> segs_;
+  std::vector<char> fixed_;         // per triangulation vertex: not movable
+  std::vector<int> vmark_;          // per triangulation vertex: marker
+  std::vector<Metric2> vm_;         // per triangulation vertex: metric
+  std::vector<char> removed_;       // per component: exterior or hole
+  std::vector<double> attr_;        // per component: region attribute
+  std::int32_t last_hole_ = -1;
+  double h_uniform_ = 0;
+  Metric2 m_uniform_;
+  bool refine_ok_ = true;
+  bool field_error_ = false;
+  bool iso_uniform_ = false;
+};
+
+}  // namespace
+
+Result mesh(const Pslg& in, const SizeSpec& size, const Options& opt) {
+  Result res;
+  Options o = opt;
+#ifndef NDEBUG
+  o.check = true;
+#endif
+  Mesher m(in, size, o, res);
+  m.run();
+  return res;
+}
+
+}  // namespace uvmesh::m2d

@@ -1,0 +1,120 @@
+// Internal triangulation store and the Delaunay kernel of mesher2d (not a public header).
+//
+// Flat, index-based store (STYLE.md): per triangle three vertex ids, three "opposite
+// half-edge" ids and three constraint ids, as parallel int32 arrays; per vertex one
+// incident triangle. kNone means "nothing".
+//
+// Local numbering, drawn once:
+//
+//                 v2
+//                /  \  .
+//        e1     /    \     e0          edge i is opposite vertex i:
+//   (v2 -> v0) /      \ (v1 -> v2)        e0 = (v1, v2), e1 = (v2, v0), e2 = (v0, v1)
+//             /        \               half-edge id h = 3 * t + i
+//           v0 -------- v1             opp[h] = half-edge id of the same edge seen from the
+//               e2 (v0 -> v1)                   neighbour across it (kNone on the box border)
+//                                      seg[h] = input segment id if edge i is constrained
+//
+// All triangles are counter-clockwise. The triangulation always covers the enclosing box
+// (§7.3.2): every vertex that is not a box corner is strictly inside it, so every
+// inserted point falls in some triangle.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "uvmesh/mesher2d/mesher2d.h"
+
+namespace uvmesh::m2d::detail {
+
+inline int next3(int i) { return i == 2 ? 0 : i + 1; }
+inline int prev3(int i) { return i == 0 ? 2 : i - 1; }
+
+// What the cavity criterion of one insertion uses (§7.3.2 isotropic, §7.6.1 anisotropic).
+struct InsertParams {
+  bool use_metric = false;  // anisotropic criterion alpha_M(P)(P,K) < 1 (eq. 7.15-7.16)
+  Metric2 m;                // M(P), the metric of the point being inserted
+  // Field-point filter: reject P when a cavity vertex lies closer than this in M(P)
+  // (in Delaunay the nearest vertex of P is always a cavity vertex). <= 0: off.
+  double min_dist = 0;
+  bool allow_on_constraint = false;  // false: a point exactly on a constrained edge is rejected
+};
+
+enum class InsertStatus { Inserted, Duplicate, TooClose, OnConstraint, Outside, BadCavity };
+
+struct InsertResult {
+  InsertStatus status;
+  VertId v;  // the new vertex (Inserted) or the existing one (Duplicate)
+};
+
+class Triangulation {
+ public:
+  // Box corners are vertices 0..3.
+  void init_box(double xmin, double ymin, double xmax, double ymax, std::size_t reserve_pts);
+
+  VertId add_vertex(Vec2 p);  // a vertex not yet in any triangle
+  InsertResult insert(VertId v, TriId hint, const InsertParams& prm);
+  InsertResult insert_point(Vec2 p, TriId hint, const InsertParams& prm);
+
+  // Locate: a triangle containing p (closed), walking from hint. kNone if outside the box.
+  TriId locate(Vec2 p, TriId hint) const;
+
+  // Boundary enforcement (§7.2.2) of segment (a, b) with id sid. Returns false and fills
+  // crossing_seg (the constrained edge's segment id) when a constrained edge is crossed.
+  // Vertices lying exactly on the open segment are reported in through (in order from a).
+  enum class EnforceStatus { Ok, Crossing, ThroughVertex };
+  struct EnforceResult {
+    EnforceStatus status = EnforceStatus::Ok;
+    VertId through = kNone;         // ThroughVertex: the vertex on (a, b)
+    std::int32_t crossing_seg = kNone;  // Crossing: the segment id crossed
+    VertId crossing_a = kNone, crossing_b = kNone;  // Crossing: the constrained edge
+  };
+  EnforceResult enforce(VertId a, VertId b, std::int32_t sid);
+  // Removes the constraint of edge (a, b) (both sides). Returns false if there is no such edge.
+  bool unconstrain(VertId a, VertId b);
+
+  // Half-edge from a to b (a triangle containing the directed edge a -> b), or kNone.
+  std::int32_t find_half_edge(VertId a, VertId b) const;
+  // Flips the edge of half-edge h; the quad must be strictly convex.
+  void flip(std::int32_t h);
+  bool flippable(std::int32_t h) const;  // strictly convex quad, not on the box border
+  // Lawson flips (constrained Delaunay) starting from the given edges (as half-edges).
+  void restore_delaunay(std::vector<std::pair<VertId, VertId>>& stack);
+
+  // Accessors.
+  std::int32_t num_tris() const { return static_cast<std::int32_t>(tv.size() / 3); }
+  std::int32_t num_verts() const { return static_cast<std::int32_t>(pts.size()); }
+  bool dead(TriId t) const { return tv[3 * t] == kNone; }
+  VertId tri_vertex(TriId t, int i) const { return tv[3 * t + i]; }
+  bool is_box_vertex(VertId v) const { return v < 4; }
+
+  std::vector<Vec2> pts;
+  std::vector<TriId> vtri;        // one incident triangle per vertex (kNone if not inserted)
+  std::vector<VertId> tv;         // 3 per triangle; tv[3t] == kNone marks a dead slot
+  std::vector<std::int32_t> opp;  // 3 per triangle
+  std::vector<std::int32_t> seg;  // 3 per triangle: input segment id or kNone
+  std::vector<std::int32_t> tag;  // 1 per triangle: domain component (new triangles inherit
+                                  // the tag of the base; flips keep it)
+
+  // Statistics of the kernel.
+  std::int64_t bad_cavities = 0;
+  std::int64_t star_corrections = 0;
+
+ private:
+  bool in_cavity(TriId t, Vec2 p, const InsertParams& prm) const;
+  void link(std::int32_t h1, std::int32_t h2) {
+    opp[h1] = h2;
+    if (h2 != kNone) opp[h2] = h1;
+  }
+  TriId new_tri();
+
+  // Scratch, reused between insertions (epoch marks avoid clearing).
+  mutable std::vector<std::uint32_t> mark_;
+  mutable std::uint32_t epoch_ = 0;
+  std::vector<TriId> cav_, stack_, free_;
+  std::vector<std::int32_t> bnd_;     // boundary half-edges of the cavity (inside side)
+  std::vector<std::int32_t> vstart_;  // vertex -> index in bnd_ of the edge starting there
+  mutable std::uint64_t rng_ = 0x9E3779B97F4A7C15ull;
+};
+
+}  // namespace uvmesh::m2d::detail
