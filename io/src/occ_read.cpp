@@ -1,0 +1,331 @@
+// OCC side of the CAD readers: STEP / IGES / BREP import, healing (ShapeFix, sewing,
+// general fuse), and the geom::Model build. The only io translation unit with OCCT.
+#define OCC_CONVERT_SIGNALS 1
+#include <BOPAlgo_GlueEnum.hxx>
+#include <BRepAlgoAPI_BuilderAlgo.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <IGESData_GlobalSection.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_PrinterOStream.hxx>
+#include <OSD.hxx>
+#include <STEPControl_Reader.hxx>
+#include <ShapeFix_Shape.hxx>
+#include <Standard_ErrorHandler.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
+#include <TCollection_HAsciiString.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Shape.hxx>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <sstream>
+
+#include "uvmesh/geom/occ.h"
+#include "uvmesh/io/cad_reader.h"
+#include "uvmesh/io/prescan.h"
+
+namespace uvmesh::io {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string occ_message(const Standard_Failure& f) {
+  std::string s = f.DynamicType()->Name();
+  const char* m = f.GetMessageString();
+  if (m && *m) s += std::string(": ") + m;
+  return s;
+}
+
+// OCC's readers and Interface_Static parameters are process-wide: serialise imports.
+std::mutex g_occ_mutex;
+
+void prepare_occ(const ReadOptions& opt) {
+  static std::once_flag once;
+  std::call_once(once, [&] {
+    if (opt.install_signal_handlers) OSD::SetSignal(Standard_False);  // no FP traps
+    // Library code does not print: drop OCC's console printers (STEP / IGES readers
+    // write progress and checks to stdout otherwise).
+    const Handle(Message_Messenger)& msg = Message::DefaultMessenger();
+    msg->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+  });
+}
+
+struct Counts {
+  int faces = 0, edges = 0, solids = 0, free_edges = 0;
+};
+
+Counts count(const TopoDS_Shape& s) {
+  Counts c;
+  TopTools_IndexedMapOfShape m;
+  TopExp::MapShapes(s, TopAbs_FACE, m);
+  c.faces = m.Extent();
+  m.Clear();
+  TopExp::MapShapes(s, TopAbs_SOLID, m);
+  c.solids = m.Extent();
+  m.Clear();
+  TopExp::MapShapes(s, TopAbs_EDGE, m);
+  c.edges = m.Extent();
+  TopTools_IndexedDataMapOfShapeListOfShape ef;
+  TopExp::MapShapesAndUniqueAncestors(s, TopAbs_EDGE, TopAbs_FACE, ef);
+  for (int i = 1; i <= ef.Extent(); ++i) {
+    const TopoDS_Edge& e = TopoDS::Edge(ef.FindKey(i));
+    if (BRep_Tool::Degenerated(e) || ef(i).Extent() != 1) continue;
+    if (BRep_Tool::IsClosed(e, TopoDS::Face(ef(i).First()))) continue;  // seam
+    ++c.free_edges;
+  }
+  return c;
+}
+
+double diagonal(const TopoDS_Shape& s) {
+  Bnd_Box b;
+  BRepBndLib::Add(s, b, Standard_False);
+  if (b.IsVoid()) return 0.0;
+  return std::sqrt(b.SquareExtent());
+}
+
+HealStep make_step(const char* name, const Counts& a, const Counts& b) {
+  HealStep h;
+  h.name = name;
+  h.faces_before = a.faces;
+  h.faces_after = b.faces;
+  h.edges_before = a.edges;
+  h.edges_after = b.edges;
+  h.solids_before = a.solids;
+  h.solids_after = b.solids;
+  h.free_edges_before = a.free_edges;
+  h.free_edges_after = b.free_edges;
+  return h;
+}
+
+std::string counts_text(const HealStep& h) {
+  std::ostringstream os;
+  os << "faces " << h.faces_before << "->" << h.faces_after << ", edges " << h.edges_before << "->"
+     << h.edges_after << ", solids " << h.solids_before << "->" << h.solids_after << ", free edges "
+     << h.free_edges_before << "->" << h.free_edges_after;
+  return os.str();
+}
+
+const char* iges_unit_name(int flag) {
+  switch (flag) {
+    case 1: return "inch";
+    case 2: return "mm";
+    case 4: return "ft";
+    case 5: return "mi";
+    case 6: return "m";
+    case 7: return "km";
+    case 8: return "mil";
+    case 9: return "um";
+    case 10: return "cm";
+    case 11: return "uin";
+    default: return "";
+  }
+}
+
+// Reads the file into a shape; sets report.format / file_units. Throws Standard_Failure or
+// returns an error message.
+std::string read_shape(const std::string& path, CadFormat fmt, TopoDS_Shape& shape, ReadReport& rep) {
+  rep.format = std::string(to_string(fmt));
+  if (fmt == CadFormat::Step) {
+    STEPControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return "the STEP reader rejected the file";
+    TColStd_SequenceOfAsciiString lu, au, su;
+    reader.FileUnits(lu, au, su);
+    if (lu.Length() > 0) rep.file_units = lu.First().ToCString();
+    reader.TransferRoots();
+    shape = reader.OneShape();
+  } else if (fmt == CadFormat::Iges) {
+    IGESControl_Reader reader;
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return "the IGES reader rejected the file";
+    const Handle(IGESData_IGESModel) model = reader.IGESModel();
+    if (!model.IsNull()) rep.file_units = iges_unit_name(model->GlobalSection().UnitFlag());
+    reader.TransferRoots();
+    shape = reader.OneShape();
+  } else {
+    BRep_Builder b;
+    if (!BRepTools::Read(shape, path.c_str(), b)) return "the BREP reader rejected the file";
+  }
+  return {};
+}
+
+}  // namespace
+
+ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
+  ReadResult res;
+  auto fail = [&](const std::string& what) {
+    res.ok = false;
+    res.error = path + ": " + what;
+    return res;
+  };
+
+  // 1. Text pre-scan: nothing malformed reaches OCC.
+  const auto t0 = Clock::now();
+  PrescanOptions po;
+  po.max_abs_coordinate = opt.max_abs_coordinate;
+  const PrescanResult pre = prescan_file(path, po);
+  const CadFormat ext = format_from_extension(path);
+  if (pre.content != CadFormat::Unknown && ext != CadFormat::Unknown && ext != pre.content &&
+      !opt.trust_content)
+    return fail("wrong extension: the name says " + std::string(to_string(ext)) + " but the content is " +
+                std::string(to_string(pre.content)) + " (rename the file, or allow reading by content)");
+  if (!pre.ok) return fail(pre.error);
+  if (ext != CadFormat::Unknown && ext != pre.content)
+    res.report.warnings.push_back("extension says " + std::string(to_string(ext)) + ", read as " +
+                                  std::string(to_string(pre.content)));
+
+  std::lock_guard<std::mutex> lock(g_occ_mutex);
+  prepare_occ(opt);
+  TopoDS_Shape shape;
+  std::string stage = "reading";
+  try {
+    OCC_CATCH_SIGNALS
+    if (std::string e = read_shape(path, pre.content, shape, res.report); !e.empty()) return fail(e);
+    res.report.read_seconds = seconds_since(t0);
+
+    Counts c0 = shape.IsNull() ? Counts{} : count(shape);
+    if (c0.faces == 0) {
+      if (pre.step_tessellated_faces > 0)
+        return fail("no B-rep faces: the file carries only tessellated geometry (" +
+                    std::to_string(pre.step_tessellated_faces) + " triangulated faces), nothing to mesh");
+      return fail(shape.IsNull() ? "no shape could be transferred from the file (empty result)"
+                                 : "the file contains no faces (empty or wire-only result)");
+    }
+
+    // 2. Healing.
+    const auto th = Clock::now();
+    if (opt.heal) {
+      stage = "healing (ShapeFix)";
+      {
+        const auto ts = Clock::now();
+        ShapeFix_Shape fix(shape);
+        fix.Perform();
+        const TopoDS_Shape fixed = fix.Shape();
+        const Counts c1 = count(fixed);
+        HealStep h = make_step("shapefix", c0, c1);
+        h.applied = fix.Status(ShapeExtend_DONE) && !fixed.IsNull();
+        h.detail = h.applied ? "ShapeFix_Shape modified the shape: " + counts_text(h)
+                             : "ShapeFix_Shape found nothing to fix";
+        if (h.applied) {
+          shape = fixed;
+          c0 = c1;
+        }
+        h.seconds = seconds_since(ts);
+        res.report.healing.push_back(h);
+      }
+      if (c0.free_edges > 0 && c0.faces > 1) {
+        stage = "healing (sewing)";
+        const auto ts = Clock::now();
+        const double tol = opt.sew_rel_tol * diagonal(shape);
+        BRepBuilderAPI_Sewing sew(tol);
+        sew.Add(shape);
+        sew.Perform();
+        const TopoDS_Shape sewn = sew.SewedShape();
+        HealStep h;
+        if (!sewn.IsNull()) {
+          const Counts c1 = count(sewn);
+          h = make_step("sewing", c0, c1);
+          // Keep the result only when it closed gaps without losing faces.
+          h.applied = c1.free_edges < c0.free_edges && c1.faces >= c0.faces;
+          std::ostringstream os;
+          os << "BRepBuilderAPI_Sewing, tolerance " << tol << ": " << counts_text(h)
+             << (h.applied ? "" : " (not kept: no free edge closed)");
+          h.detail = os.str();
+          if (h.applied) {
+            shape = sewn;
+            c0 = c1;
+          }
+        } else {
+          h = make_step("sewing", c0, c0);
+          h.detail = "sewing produced no shape (not kept)";
+        }
+        h.name = "sewing";
+        h.seconds = seconds_since(ts);
+        res.report.healing.push_back(h);
+      }
+    }
+    if (opt.conform && c0.solids > 1) {
+      stage = "making the assembly conforming (general fuse)";
+      const auto ts = Clock::now();
+      TopTools_IndexedMapOfShape solids;
+      TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+      TopTools_ListOfShape args;
+      for (int i = 1; i <= solids.Extent(); ++i) args.Append(solids(i));
+      BRepAlgoAPI_BuilderAlgo fuse;
+      fuse.SetArguments(args);
+      fuse.SetRunParallel(Standard_False);
+      fuse.SetNonDestructive(Standard_True);
+      // Fuzzy value: solids of an assembly touch within their tolerances, not exactly.
+      fuse.SetFuzzyValue(1e-7 * diagonal(shape));
+      fuse.Build();
+      HealStep h;
+      if (fuse.IsDone() && !fuse.HasErrors()) {
+        const TopoDS_Shape out = fuse.Shape();
+        const Counts c1 = count(out);
+        h = make_step("conform", c0, c1);
+        h.applied = true;
+        h.detail = "general fuse of " + std::to_string(solids.Extent()) + " solids: " + counts_text(h);
+        shape = out;
+        c0 = c1;
+      } else {
+        h = make_step("conform", c0, c0);
+        h.detail = "general fuse failed; the assembly is left non-conforming";
+        res.report.warnings.push_back(h.detail);
+      }
+      h.name = "conform";
+      h.seconds = seconds_since(ts);
+      res.report.healing.push_back(h);
+    }
+    res.report.heal_seconds = seconds_since(th);
+
+    // 3. Model.
+    stage = "building the model";
+    const auto tb = Clock::now();
+    geom::OccModelOptions mo;
+    mo.check_validity = opt.check_validity;
+    res.model = geom::model_from_occ(shape, mo);
+    res.report.build_seconds = seconds_since(tb);
+  } catch (const Standard_Failure& f) {
+    return fail("OpenCASCADE failed while " + stage + ": " + occ_message(f));
+  } catch (const std::exception& e) {
+    return fail(std::string("failed while ") + stage + ": " + e.what());
+  }
+  res.model.source = path;
+  res.model.format = res.report.format;
+  // OCC's STEP / IGES transfer converts lengths to millimetres (its default
+  // xstep.cascade.unit); the file's own unit is in report.file_units. BREP has no unit.
+  res.model.units = pre.content == CadFormat::Brep ? "" : "mm";
+
+  // 4. Sanity of the result: coordinates that cannot be real.
+  for (std::size_t i = 0; i < res.model.vertices.size(); ++i) {
+    const geom::Vec3& p = res.model.vertices[i].p;
+    const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (!(m <= opt.max_abs_coordinate)) {
+      std::ostringstream os;
+      os << "vertex " << i << " has a coordinate of magnitude " << m << ", beyond "
+         << opt.max_abs_coordinate << " (corrupted coordinate?)";
+      return fail(os.str());
+    }
+  }
+  res.ok = true;
+  return res;
+}
+
+}  // namespace uvmesh::io

@@ -1,0 +1,355 @@
+// Text pre-scan of STEP / IGES / BREP files (see prescan.h). Linear in the file size.
+#include "uvmesh/io/prescan.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+namespace uvmesh::io {
+namespace {
+
+std::string lower(std::string_view s) {
+  std::string r(s);
+  std::transform(r.begin(), r.end(), r.begin(), [](unsigned char c) { return std::tolower(c); });
+  return r;
+}
+
+bool is_nonfinite_word(std::string_view w) {
+  if (!w.empty() && (w[0] == '+' || w[0] == '-')) w.remove_prefix(1);
+  const std::string l = lower(w);
+  return l == "nan" || l == "inf" || l == "infinity" || l.rfind("nan(", 0) == 0;
+}
+
+// Parses a number at s[i..]; returns chars consumed (0 if none) and the value.
+std::size_t parse_number(std::string_view s, std::size_t i, double& value, bool& overflow) {
+  std::size_t j = i;
+  if (j < s.size() && (s[j] == '+' || s[j] == '-')) ++j;
+  const std::size_t digits_start = j;
+  while (j < s.size() && (std::isdigit(static_cast<unsigned char>(s[j])) || s[j] == '.')) ++j;
+  if (j == digits_start) return 0;
+  if (j < s.size() && (s[j] == 'E' || s[j] == 'e' || s[j] == 'D' || s[j] == 'd')) {
+    std::size_t k = j + 1;
+    if (k < s.size() && (s[k] == '+' || s[k] == '-')) ++k;
+    const std::size_t e0 = k;
+    while (k < s.size() && std::isdigit(static_cast<unsigned char>(s[k]))) ++k;
+    if (k > e0) j = k;
+  }
+  std::string tok(s.substr(i, j - i));
+  std::replace(tok.begin(), tok.end(), 'D', 'E');  // IGES may use Fortran exponents
+  std::replace(tok.begin(), tok.end(), 'd', 'E');
+  errno = 0;
+  value = std::strtod(tok.c_str(), nullptr);
+  overflow = (errno == ERANGE && std::isinf(value)) || !std::isfinite(value);
+  return j - i;
+}
+
+std::string fmt_num(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+// ---------------------------------------------------------------------------- STEP
+PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
+  PrescanResult r;
+  r.content = CadFormat::Step;
+  const std::size_t data = t.find("DATA;");
+  if (data == std::string_view::npos) {
+    r.error = "STEP file has no DATA section";
+    return r;
+  }
+  std::unordered_set<long long> defined;
+  std::vector<std::pair<long long, long long>> refs;  // (from entity, to entity)
+  std::string stmt;
+  bool ended = false;
+  std::size_t i = data + 5;
+  auto fail = [&](std::string msg) {
+    r.ok = false;
+    r.error = std::move(msg);
+    return r;
+  };
+  while (i < t.size()) {
+    // Accumulate one statement up to ';' outside strings and comments.
+    stmt.clear();
+    bool closed = false;
+    while (i < t.size()) {
+      const char c = t[i];
+      if (c == '\'') {  // string, '' is an escaped quote
+        std::size_t j = i + 1;
+        while (j < t.size()) {
+          if (t[j] == '\'') {
+            if (j + 1 < t.size() && t[j + 1] == '\'') { j += 2; continue; }
+            break;
+          }
+          ++j;
+        }
+        stmt += "''";  // keep a placeholder, drop the content
+        i = j + 1;
+        continue;
+      }
+      if (c == '/' && i + 1 < t.size() && t[i + 1] == '*') {
+        const std::size_t j = t.find("*/", i + 2);
+        i = (j == std::string_view::npos) ? t.size() : j + 2;
+        continue;
+      }
+      ++i;
+      if (c == ';') { closed = true; break; }
+      if (c != '\n' && c != '\r') stmt += c;
+    }
+    // Trim.
+    const auto b = stmt.find_first_not_of(" \t");
+    if (b == std::string::npos) {
+      if (!closed) break;
+      continue;
+    }
+    std::string_view s(stmt);
+    s.remove_prefix(b);
+    if (!closed) return fail("truncated: the file ends inside a statement of the DATA section (no END-ISO-10303-21;)");
+    if (s.rfind("ENDSEC", 0) == 0) continue;
+    if (s.rfind("END-ISO-10303-21", 0) == 0) { ended = true; break; }
+    if (s.rfind("DATA", 0) == 0) continue;  // a second DATA section
+    if (s[0] != '#') return fail("malformed STEP DATA statement: '" + std::string(s.substr(0, 60)) + "'");
+    // Defined id.
+    std::size_t k = 1;
+    long long id = 0;
+    while (k < s.size() && std::isdigit(static_cast<unsigned char>(s[k]))) id = id * 10 + (s[k++] - '0');
+    defined.insert(id);
+    ++r.step_entities;
+    const bool point = s.find("CARTESIAN_POINT") != std::string_view::npos;
+    if (s.find("ADVANCED_FACE") != std::string_view::npos || s.find("FACE_SURFACE") != std::string_view::npos)
+      ++r.step_brep_faces;
+    if (s.find("TRIANGULATED_FACE") != std::string_view::npos ||
+        s.find("TESSELLATED_FACE") != std::string_view::npos)
+      ++r.step_tessellated_faces;
+    // Parameters: references, numbers, stray words.
+    const std::size_t eq = s.find('=', k);
+    if (eq == std::string_view::npos) return fail("malformed STEP entity #" + std::to_string(id) + " (no '=')");
+    for (std::size_t j = eq + 1; j < s.size();) {
+      const char c = s[j];
+      if (c == '#') {
+        long long ref = 0;
+        std::size_t m = j + 1;
+        while (m < s.size() && std::isdigit(static_cast<unsigned char>(s[m]))) ref = ref * 10 + (s[m++] - '0');
+        if (m > j + 1) refs.emplace_back(id, ref);
+        j = m;
+      } else if (c == '.') {  // enumeration .NAME. or a number like .5
+        if (j + 1 < s.size() && std::isalpha(static_cast<unsigned char>(s[j + 1]))) {
+          const std::size_t m = s.find('.', j + 1);
+          j = (m == std::string_view::npos) ? s.size() : m + 1;
+        } else {
+          double v = 0;
+          bool of = false;
+          const std::size_t n = parse_number(s, j, v, of);
+          j += std::max<std::size_t>(n, 1);
+        }
+      } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+') {
+        double v = 0;
+        bool of = false;
+        const std::size_t n = parse_number(s, j, v, of);
+        if (n == 0) {
+          // A sign before a word: "-NaN", "+INF".
+          std::size_t m = j + 1;
+          while (m < s.size() && (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_')) ++m;
+          if (is_nonfinite_word(s.substr(j, m - j)))
+            return fail("entity #" + std::to_string(id) + " has a non-finite number '" + std::string(s.substr(j, m - j)) + "'");
+          j = m;
+          continue;
+        }
+        if (of)
+          return fail("entity #" + std::to_string(id) + " has a number that overflows a double ('" +
+                      std::string(s.substr(j, n)) + "')");
+        if (point && std::abs(v) > opt.max_abs_coordinate)
+          return fail("CARTESIAN_POINT #" + std::to_string(id) + " has coordinate " + fmt_num(v) +
+                      ", beyond the accepted magnitude " + fmt_num(opt.max_abs_coordinate) +
+                      " (corrupted coordinate?)");
+        j += n;
+      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+        std::size_t m = j;
+        while (m < s.size() && (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_' || s[m] == '-')) ++m;
+        std::size_t after = m;
+        while (after < s.size() && s[after] == ' ') ++after;
+        const bool is_type = after < s.size() && s[after] == '(';
+        if (!is_type && is_nonfinite_word(s.substr(j, m - j)))
+          return fail("entity #" + std::to_string(id) + " has a non-finite number '" + std::string(s.substr(j, m - j)) + "'");
+        j = m;
+      } else {
+        ++j;
+      }
+    }
+  }
+  if (!ended)
+    return fail("truncated: no END-ISO-10303-21; after the DATA section (" + std::to_string(r.step_entities) +
+                " entities read)");
+  for (const auto& [from, to] : refs)
+    if (!defined.count(to))
+      return fail("dangling reference: entity #" + std::to_string(from) + " references #" + std::to_string(to) +
+                  ", which is not defined");
+  r.ok = true;
+  return r;
+}
+
+// ---------------------------------------------------------------------------- IGES
+PrescanResult scan_iges(std::string_view t, const PrescanOptions&) {
+  PrescanResult r;
+  r.content = CadFormat::Iges;
+  int count[5] = {0, 0, 0, 0, 0};  // S G D P T
+  const std::string letters = "SGDPT";
+  int bad_lines = 0, lines = 0;
+  std::size_t i = 0;
+  while (i < t.size()) {
+    std::size_t e = t.find('\n', i);
+    if (e == std::string_view::npos) e = t.size();
+    std::string_view line = t.substr(i, e - i);
+    i = e + 1;
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (line.empty()) continue;
+    ++lines;
+    if (line.size() < 73) { ++bad_lines; continue; }
+    const auto k = letters.find(line[72]);
+    if (k == std::string::npos) { ++bad_lines; continue; }
+    ++count[k];
+    if (line[72] == 'P') {
+      // Free-format parameters in columns 1-64: numbers and Hollerith strings.
+      std::string_view p = line.substr(0, std::min<std::size_t>(64, line.size()));
+      std::size_t j = 0;
+      while (j < p.size()) {
+        while (j < p.size() && (p[j] == ',' || p[j] == ';' || p[j] == ' ')) ++j;
+        std::size_t m = j;
+        while (m < p.size() && p[m] != ',' && p[m] != ';' && p[m] != ' ') ++m;
+        if (m > j && is_nonfinite_word(p.substr(j, m - j)))
+          return r.error = "IGES parameter line " + std::to_string(lines) + " has a non-finite number '" +
+                           std::string(p.substr(j, m - j)) + "'",
+                 r;
+        j = m;
+      }
+    }
+  }
+  if (lines == 0 || bad_lines * 10 > lines)
+    return r.error = "not an IGES file: " + std::to_string(bad_lines) + " of " + std::to_string(lines) +
+                     " lines lack the section letter (S, G, D, P, T) in column 73",
+           r;
+  const char* names[5] = {"Start (S)", "Global (G)", "Directory Entry (D)", "Parameter Data (P)", "Terminate (T)"};
+  for (int k = 2; k < 5; ++k)
+    if (count[k] == 0) return r.error = std::string("IGES ") + names[k] + " section is missing", r;
+  r.ok = true;
+  return r;
+}
+
+// ---------------------------------------------------------------------------- BREP
+PrescanResult scan_brep(std::string_view t, const PrescanOptions&) {
+  PrescanResult r;
+  r.content = CadFormat::Brep;
+  // Whitespace-separated tokens; numbers must be finite.
+  std::size_t i = 0;
+  long line = 1;
+  while (i < t.size()) {
+    while (i < t.size() && std::isspace(static_cast<unsigned char>(t[i]))) {
+      if (t[i] == '\n') ++line;
+      ++i;
+    }
+    std::size_t j = i;
+    while (j < t.size() && !std::isspace(static_cast<unsigned char>(t[j]))) ++j;
+    if (j > i) {
+      const std::string_view tok = t.substr(i, j - i);
+      if (is_nonfinite_word(tok))
+        return r.error = "BREP line " + std::to_string(line) + " has a non-finite number '" + std::string(tok) + "'", r;
+      const char c = tok[0];
+      if (std::isdigit(static_cast<unsigned char>(c)) || ((c == '-' || c == '+') && tok.size() > 1)) {
+        double v = 0;
+        bool of = false;
+        if (parse_number(tok, 0, v, of) > 0 && of)
+          return r.error = "BREP line " + std::to_string(line) + " has a number that overflows a double ('" +
+                           std::string(tok) + "')",
+                 r;
+      }
+    }
+    i = j;
+  }
+  r.ok = true;
+  return r;
+}
+
+}  // namespace
+
+std::string_view to_string(CadFormat f) {
+  switch (f) {
+    case CadFormat::Step: return "step";
+    case CadFormat::Iges: return "iges";
+    case CadFormat::Brep: return "brep";
+    default: return "unknown";
+  }
+}
+
+CadFormat format_from_extension(const std::string& path) {
+  const auto dot = path.find_last_of('.');
+  const auto slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return CadFormat::Unknown;
+  const std::string ext = lower(path.substr(dot + 1));
+  if (ext == "step" || ext == "stp" || ext == "p21") return CadFormat::Step;
+  if (ext == "igs" || ext == "iges") return CadFormat::Iges;
+  if (ext == "brep" || ext == "brp" || ext == "rle") return CadFormat::Brep;
+  return CadFormat::Unknown;
+}
+
+CadFormat sniff_format(std::string_view head) {
+  head = head.substr(0, std::min<std::size_t>(head.size(), 4096));
+  const auto first = head.find_first_not_of(" \t\r\n");
+  if (first != std::string_view::npos && head.substr(first).rfind("ISO-10303-21", 0) == 0) return CadFormat::Step;
+  if (head.find("CASCADE Topology V") != std::string_view::npos) return CadFormat::Brep;
+  // IGES: a first line of (at least) 73 columns with a section letter in column 73.
+  std::size_t e = head.find('\n');
+  std::string_view l = head.substr(0, e == std::string_view::npos ? head.size() : e);
+  if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+  if (l.size() >= 73 && (l[72] == 'S' || l[72] == 'G') &&
+      std::all_of(l.begin(), l.end(), [](unsigned char c) { return c >= 32 && c < 127; }))
+    return CadFormat::Iges;
+  return CadFormat::Unknown;
+}
+
+PrescanResult prescan_text(std::string_view text, CadFormat fmt, const PrescanOptions& opt) {
+  switch (fmt) {
+    case CadFormat::Step: return scan_step(text, opt);
+    case CadFormat::Iges: return scan_iges(text, opt);
+    case CadFormat::Brep: return scan_brep(text, opt);
+    default: {
+      PrescanResult r;
+      r.error = "unknown format";
+      return r;
+    }
+  }
+}
+
+PrescanResult prescan_file(const std::string& path, const PrescanOptions& opt) {
+  PrescanResult r;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    r.error = "cannot open the file";
+    return r;
+  }
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.empty()) {
+    r.error = "the file is empty (0 bytes)";
+    return r;
+  }
+  const CadFormat fmt = sniff_format(text);
+  if (fmt == CadFormat::Unknown) {
+    const bool binary = std::any_of(text.begin(), text.begin() + std::min<std::size_t>(text.size(), 4096),
+                                    [](unsigned char c) { return c == 0 || (c < 32 && c != '\n' && c != '\r' && c != '\t') || c >= 127; });
+    r.error = std::string("not a CAD file") + (binary ? " (binary content)" : "") +
+              ": neither a STEP header (ISO-10303-21;), an IGES start line (80 columns, "
+              "section letter in column 73) nor an OpenCASCADE BREP header (CASCADE Topology)";
+    return r;
+  }
+  r = prescan_text(text, fmt, opt);
+  r.content = fmt;
+  return r;
+}
+
+}  // namespace uvmesh::io
