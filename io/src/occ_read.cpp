@@ -180,6 +180,7 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
   const auto t0 = Clock::now();
   PrescanOptions po;
   po.max_abs_coordinate = opt.max_abs_coordinate;
+  po.allow_dangling_references = opt.allow_partial;
   const PrescanResult pre = prescan_file(path, po);
   const CadFormat ext = format_from_extension(path);
   if (pre.content != CadFormat::Unknown && ext != CadFormat::Unknown && ext != pre.content &&
@@ -187,6 +188,7 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     return fail("wrong extension: the name says " + std::string(to_string(ext)) + " but the content is " +
                 std::string(to_string(pre.content)) + " (rename the file, or allow reading by content)");
   if (!pre.ok) return fail(pre.error);
+  for (const std::string& w : pre.warnings) res.report.warnings.push_back(w);
   if (ext != CadFormat::Unknown && ext != pre.content)
     res.report.warnings.push_back("extension says " + std::string(to_string(ext)) + ", read as " +
                                   std::string(to_string(pre.content)));

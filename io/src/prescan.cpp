@@ -115,7 +115,14 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
     if (s.rfind("ENDSEC", 0) == 0) continue;
     if (s.rfind("END-ISO-10303-21", 0) == 0) { ended = true; break; }
     if (s.rfind("DATA", 0) == 0) continue;  // a second DATA section
-    if (s[0] != '#') return fail("malformed STEP DATA statement: '" + std::string(s.substr(0, 60)) + "'");
+    if (s[0] != '#') {
+      // OCC skips a garbled statement and reports the entities it could not read; so do
+      // we (OCC bug 32314's "corrupted" file has such lines and still loads).
+      ++r.malformed_statements;
+      if (r.warnings.size() < 5)
+        r.warnings.push_back("malformed STEP statement skipped: '" + std::string(s.substr(0, 60)) + "'");
+      continue;
+    }
     // Defined id.
     std::size_t k = 1;
     long long id = 0;
@@ -130,7 +137,11 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
       ++r.step_tessellated_faces;
     // Parameters: references, numbers, stray words.
     const std::size_t eq = s.find('=', k);
-    if (eq == std::string_view::npos) return fail("malformed STEP entity #" + std::to_string(id) + " (no '=')");
+    if (eq == std::string_view::npos) {
+      ++r.malformed_statements;
+      if (r.warnings.size() < 5) r.warnings.push_back("malformed STEP entity #" + std::to_string(id) + " (no '=')");
+      continue;
+    }
     for (std::size_t j = eq + 1; j < s.size();) {
       const char c = s[j];
       if (c == '#') {
@@ -187,10 +198,24 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
   if (!ended)
     return fail("truncated: no END-ISO-10303-21; after the DATA section (" + std::to_string(r.step_entities) +
                 " entities read)");
+  // A reference to an entity that is defined nowhere. In an otherwise well-formed file
+  // that is an inconsistency OCC would paper over by dropping faces silently: an error.
+  // When statements were garbled, dangling references are the visible consequence of
+  // that damage: the import goes on (OCC skips what it cannot resolve) and says so.
+  int dangling = 0;
+  std::string first;
   for (const auto& [from, to] : refs)
-    if (!defined.count(to))
-      return fail("dangling reference: entity #" + std::to_string(from) + " references #" + std::to_string(to) +
-                  ", which is not defined");
+    if (!defined.count(to)) {
+      if (dangling++ == 0)
+        first = "entity #" + std::to_string(from) + " references #" + std::to_string(to) + ", which is not defined";
+    }
+  r.dangling_references = dangling;
+  if (dangling > 0) {
+    if (r.malformed_statements == 0 && !opt.allow_dangling_references)
+      return fail("dangling reference: " + first);
+    r.warnings.push_back(std::to_string(dangling) + " dangling references (first: " + first +
+                         "); what depends on them is not imported");
+  }
   r.ok = true;
   return r;
 }

@@ -20,6 +20,7 @@ struct ReadFlags {
   bool no_heal = false;
   bool conform = false;
   bool any_extension = false;
+  bool partial = false;
   double sew_rel_tol = 1e-6;
 };
 
@@ -30,6 +31,7 @@ void add_read_flags(CLI::App* cmd, ReadFlags& f) {
   cmd->add_flag("--conform", f.conform,
                 "make an assembly conforming: touching solids are imprinted (general fuse)");
   cmd->add_flag("--any-extension", f.any_extension, "read by content when the extension disagrees");
+  cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");
   cmd->add_option("--sew-tol", f.sew_rel_tol, "sewing tolerance relative to the bounding-box diagonal")
       ->check(CLI::PositiveNumber);
 }
@@ -40,6 +42,7 @@ uvmesh::io::ReadOptions read_options(const ReadFlags& f) {
   o.conform = f.conform;
   o.trust_content = f.any_extension;
   o.sew_rel_tol = f.sew_rel_tol;
+  o.allow_partial = f.partial;
   return o;
 }
 

@@ -35,6 +35,9 @@ struct ReadOptions {
   bool conform = false;
   /// Run BRepCheck per face (geom::Face::valid).
   bool check_validity = true;
+  /// Import a STEP file with references to undefined entities, dropping what depends on
+  /// them (with a warning), instead of rejecting it. See PrescanOptions.
+  bool allow_partial = false;
   /// Read by content when the extension disagrees with it (otherwise an error).
   bool trust_content = false;
   /// Coordinates beyond this magnitude are rejected (1e12: a kilometre-size part in

@@ -9,6 +9,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace uvmesh::io {
 
@@ -22,6 +23,10 @@ CadFormat sniff_format(std::string_view head);
 
 struct PrescanOptions {
   double max_abs_coordinate = 1e12;  ///< see ReadOptions::max_abs_coordinate
+  /// Dangling STEP references are an error in a file whose statements all parse (the file
+  /// is inconsistent); true = import what can be resolved, with a warning. In a file with
+  /// garbled statements they are always warnings (the damage is already visible).
+  bool allow_dangling_references = false;
 };
 
 struct PrescanResult {
@@ -31,6 +36,9 @@ struct PrescanResult {
   int step_entities = 0;
   int step_brep_faces = 0;        ///< ADVANCED_FACE / FACE_SURFACE instances
   int step_tessellated_faces = 0; ///< (COMPLEX_)TRIANGULATED_FACE / TESSELLATED_* instances
+  int malformed_statements = 0;   ///< STEP statements that are not '#id = ...' (skipped)
+  int dangling_references = 0;    ///< references to entities defined nowhere
+  std::vector<std::string> warnings;
 };
 
 /// Scans text already in memory (the file's content) of the given format.
