@@ -763,8 +763,74 @@ class Mesher {
     return moved;
   }
 
+  // Valence-driven swaps: in a unit mesh the ideal vertex has 6 triangles around it (a
+  // boundary vertex round(theta / 60deg) for its interior angle theta); valence 4 or 8
+  // vertices force angles of 90 or 45 degrees that no relocation can repair. A swap is
+  // taken when it lowers the squared deviation from the ideal counts of its four vertices
+  // and keeps the worse of its two triangles within kValenceQualityKeep of the current one.
+  std::int64_t valence_pass() {
+    constexpr double kValenceQualityKeep = 0.8;
+    const VertId nv = tri_.num_verts();
+    std::vector<std::int32_t> cnt(nv, 0);
+    std::vector<double> ang(nv, 0.0);
+    std::vector<char> onb(nv, 0);
+    const TriId nt = tri_.num_tris();
+    const auto& P = tri_.pts;
+    for (TriId t = 0; t < nt; ++t) {
+      if (!in_domain(t)) continue;
+      for (int i = 0; i < 3; ++i) {
+        const VertId v = tri_.tv[3 * t + i];
+        ++cnt[v];
+        if (tri_.seg[3 * t + i] != kNone) {
+          onb[tri_.tv[3 * t + detail::next3(i)]] = 1;
+          onb[tri_.tv[3 * t + detail::prev3(i)]] = 1;
+        }
+        const Vec2 a = P[v], b = P[tri_.tv[3 * t + detail::next3(i)]], c = P[tri_.tv[3 * t + detail::prev3(i)]];
+        const double ux = b.x - a.x, uy = b.y - a.y, wx = c.x - a.x, wy = c.y - a.y;
+        ang[v] += std::atan2(ux * wy - uy * wx, ux * wx + uy * wy);
+      }
+    }
+    std::vector<std::int32_t> ideal(nv, 6);
+    for (VertId v = 0; v < nv; ++v)
+      if (onb[v]) ideal[v] = std::max(1, static_cast<int>(std::lround(ang[v] / (3.14159265358979323846 / 3))));
+    std::int64_t swaps = 0;
+    for (TriId t = 0; t < nt; ++t) {
+      if (!in_domain(t)) continue;
+      for (int i = 0; i < 3; ++i) {
+        const std::int32_t h = 3 * t + i;
+        if (tri_.seg[h] != kNone) continue;
+        const std::int32_t g = tri_.opp[h];
+        if (g == kNone || g / 3 < t) continue;
+        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+        const VertId d = tri_.tv[g];
+        auto dev = [&](VertId v, int delta) {
+          const double e = cnt[v] + delta - ideal[v];
+          return e * e;
+        };
+        const double before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
+        const double after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
+        if (!(after < before)) continue;
+        const Metric2 m = iso_uniform_ ? Metric2{} : quad_metric(a, b, c, d);
+        const double qb = std::min(quality_in(m, P[c], P[a], P[b]), quality_in(m, P[d], P[b], P[a]));
+        const double qa = std::min(quality_in(m, P[c], P[a], P[d]), quality_in(m, P[d], P[b], P[c]));
+        if (qa < kValenceQualityKeep * qb || !tri_.flippable(h)) continue;
+        tri_.flip(h);
+        --cnt[a], --cnt[b], ++cnt[c], ++cnt[d];
+        ++swaps;
+        break;
+      }
+    }
+    return swaps;
+  }
+
   void optimize() {
     iso_uniform_ = size_.kind == SizeSpec::Kind::Uniform;
+    for (int pass = 0; pass < 8; ++pass) {
+      const std::int64_t s = valence_pass();
+      res_.stats.swaps += s;
+      res_.stats.relocations += smooth_pass();
+      if (s == 0) break;
+    }
     for (int pass = 0; pass < opt_.optimize_passes && !field_error_; ++pass) {
       const std::int64_t s = swap_pass();
       const std::int64_t r = smooth_pass();

@@ -55,9 +55,9 @@ TriId Triangulation::new_tri() {
     return t;
   }
   TriId t = num_tris();
-  tv.insert(tv.end(), {kNone, kNone, kNone});
-  opp.insert(opp.end(), {kNone, kNone, kNone});
-  seg.insert(seg.end(), {kNone, kNone, kNone});
+  tv.resize(tv.size() + 3, kNone);
+  opp.resize(opp.size() + 3, kNone);
+  seg.resize(seg.size() + 3, kNone);
   tag.push_back(0);
   return t;
 }
@@ -171,104 +171,52 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
   }
   const std::size_t nbase = cav_.size();
 
-  // Cavity grown by adjacency, never across a constrained edge (§7.2.1).
+  // Cavity grown by adjacency, never across a constrained edge (§7.2.1). The boundary
+  // half-edges (inside side) are collected on the way: a neighbour's status is decided the
+  // first time it is seen and never changes.
+  bnd_.clear();
   for (std::size_t k = 0; k < cav_.size(); ++k) {
     const TriId t = cav_[k];
     for (int i = 0; i < 3; ++i) {
-      if (seg[3 * t + i] != kNone) continue;
       const std::int32_t h = opp[3 * t + i];
-      if (h == kNone) continue;
+      if (h == kNone || seg[3 * t + i] != kNone) {
+        if (h == kNone || mark_[h / 3] != IN) bnd_.push_back(3 * t + i);
+        continue;
+      }
       const TriId n = h / 3;
-      if (mark_[n] == IN || mark_[n] == OUT) continue;
-      if (in_cavity(n, p, prm)) {
+      const std::uint32_t mk = mark_[n];
+      if (mk == IN) continue;
+      if (mk != OUT && in_cavity(n, p, prm)) {
         mark_[n] = IN;
         cav_.push_back(n);
       } else {
         mark_[n] = OUT;
+        bnd_.push_back(3 * t + i);
       }
     }
   }
 
   // Star-shapedness check and correction: every boundary edge of the cavity must see P
-  // strictly on its left. Always true for the exact isotropic kernel on a (constrained)
-  // Delaunay mesh; needed for the anisotropic one (§7.6.1) and after optimization swaps.
-  for (int round = 0;; ++round) {
-    bool changed = false;
-    for (std::size_t k = nbase; k < cav_.size(); ++k) {
-      const TriId t = cav_[k];
-      if (mark_[t] != IN) continue;
-      for (int i = 0; i < 3; ++i) {
-        const std::int32_t h = opp[3 * t + i];
-        if (h != kNone && mark_[h / 3] == IN) continue;
-        if (orient(pts[tv[3 * t + next3(i)]], pts[tv[3 * t + prev3(i)]], p) <= 0) {
-          mark_[t] = OUT;
-          changed = true;
-          break;
-        }
+  // strictly on its left. Guaranteed for the exact isotropic kernel on a (constrained)
+  // Delaunay mesh (§7.1.3); needed for the anisotropic kernel (§7.6.1), where the
+  // criterion uses M(P) only. Checked always: a few filtered orientation tests.
+  {
+    bool bad = false;
+    for (const std::int32_t h : bnd_) {
+      const TriId t = h / 3;
+      const int i = h % 3;
+      if (orient(pts[tv[3 * t + next3(i)]], pts[tv[3 * t + prev3(i)]], p) <= 0) {
+        bad = true;
+        break;
       }
     }
-    if (!changed) break;
-    ++star_corrections;
-    // Keep only what is still connected to the base.
-    std::size_t w = 0;
-    for (std::size_t k = 0; k < cav_.size(); ++k)
-      if (mark_[cav_[k]] == IN) {
-        mark_[cav_[k]] = CAND;
-        cav_[w++] = cav_[k];
-      }
-    cav_.resize(w);
-    stack_.clear();
-    for (std::size_t k = 0; k < nbase; ++k) {
-      mark_[cav_[k]] = IN;
-      stack_.push_back(cav_[k]);
-    }
-    std::size_t kept = nbase;
-    while (!stack_.empty()) {
-      const TriId t = stack_.back();
-      stack_.pop_back();
-      for (int i = 0; i < 3; ++i) {
-        if (seg[3 * t + i] != kNone) continue;
-        const std::int32_t h = opp[3 * t + i];
-        if (h != kNone && mark_[h / 3] == CAND) {
-          mark_[h / 3] = IN;
-          stack_.push_back(h / 3);
-          ++kept;
-        }
-      }
-    }
-    w = 0;
-    for (std::size_t k = 0; k < cav_.size(); ++k) {
-      if (mark_[cav_[k]] == IN)
-        cav_[w++] = cav_[k];
-      else
-        mark_[cav_[k]] = OUT;
-    }
-    cav_.resize(w);
-    (void)kept;
-    if (round > 64) return {InsertStatus::BadCavity, kNone};
-  }
-
-  // Boundary of the cavity; base triangles must see P too (P strictly inside the base).
-  bnd_.clear();
-  for (const TriId t : cav_) {
-    for (int i = 0; i < 3; ++i) {
-      const std::int32_t h = opp[3 * t + i];
-      if (h != kNone && mark_[h / 3] == IN) continue;
-      bnd_.push_back(3 * t + i);
-    }
+    if (bad && !star_correct(p, nbase, IN, OUT, CAND)) return {InsertStatus::BadCavity, kNone};
   }
   // A star-shaped topological disk with m boundary edges holds m - 2 triangles; more
   // means a vertex strictly inside the cavity, which the ball would lose.
   if (bnd_.size() != cav_.size() + 2) {
     ++bad_cavities;
     return {InsertStatus::BadCavity, kNone};
-  }
-  for (const std::int32_t h : bnd_) {
-    const VertId a = tv[h - h % 3 + next3(h % 3)], b = tv[h - h % 3 + prev3(h % 3)];
-    if (orient(pts[a], pts[b], p) <= 0) {
-      ++bad_cavities;
-      return {InsertStatus::BadCavity, kNone};
-    }
   }
   // Field-point filter: the nearest existing vertex is a cavity vertex.
   if (prm.min_dist > 0) {
@@ -282,11 +230,7 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
   }
 
   // Replace the cavity by the ball: one new triangle (a, b, P) per boundary edge (a, b).
-  struct B {
-    VertId a, b;
-    std::int32_t out, s;
-  };
-  thread_local std::vector<B> bd;
+  auto& bd = bd_;
   bd.clear();
   for (const std::int32_t h : bnd_) {
     const TriId t = h / 3;
@@ -299,7 +243,7 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
     free_.push_back(t);
   }
   if (vstart_.size() < pts.size()) vstart_.resize(pts.size() + pts.size() / 2 + 16);
-  thread_local std::vector<TriId> nt;
+  auto& nt = nt_;
   nt.resize(bd.size());
   for (std::size_t k = 0; k < bd.size(); ++k) {
     const TriId t = new_tri();
@@ -323,6 +267,74 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
   vtri[v] = nt[0];
   if (mark_.size() < static_cast<std::size_t>(num_tris())) mark_.resize(2 * num_tris() + 8, 0);
   return {InsertStatus::Inserted, v};
+}
+
+bool Triangulation::star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, std::uint32_t OUT,
+                                 std::uint32_t CAND) {
+  ++star_corrections;
+  for (int round = 0; round < 64; ++round) {
+    // Drop every non-base triangle having a boundary edge that does not see P.
+    bool changed = false;
+    for (std::size_t k = nbase; k < cav_.size(); ++k) {
+      const TriId t = cav_[k];
+      if (mark_[t] != IN) continue;
+      for (int i = 0; i < 3; ++i) {
+        const std::int32_t h = opp[3 * t + i];
+        if (h != kNone && seg[3 * t + i] == kNone && mark_[h / 3] == IN) continue;
+        if (orient(pts[tv[3 * t + next3(i)]], pts[tv[3 * t + prev3(i)]], p) <= 0) {
+          mark_[t] = OUT;
+          changed = true;
+          break;
+        }
+      }
+    }
+    // Keep only what is still connected to the base.
+    std::size_t w = 0;
+    for (std::size_t k = 0; k < cav_.size(); ++k)
+      if (mark_[cav_[k]] == IN) {
+        mark_[cav_[k]] = CAND;
+        cav_[w++] = cav_[k];
+      }
+    cav_.resize(w);
+    stack_.clear();
+    for (std::size_t k = 0; k < nbase; ++k) {
+      mark_[cav_[k]] = IN;
+      stack_.push_back(cav_[k]);
+    }
+    while (!stack_.empty()) {
+      const TriId t = stack_.back();
+      stack_.pop_back();
+      for (int i = 0; i < 3; ++i) {
+        if (seg[3 * t + i] != kNone) continue;
+        const std::int32_t h = opp[3 * t + i];
+        if (h != kNone && mark_[h / 3] == CAND) {
+          mark_[h / 3] = IN;
+          stack_.push_back(h / 3);
+        }
+      }
+    }
+    w = 0;
+    for (std::size_t k = 0; k < cav_.size(); ++k) {
+      if (mark_[cav_[k]] == IN)
+        cav_[w++] = cav_[k];
+      else
+        mark_[cav_[k]] = OUT;
+    }
+    cav_.resize(w);
+    // Recollect the boundary and check it.
+    bnd_.clear();
+    bool bad = false;
+    for (const TriId t : cav_)
+      for (int i = 0; i < 3; ++i) {
+        const std::int32_t h = opp[3 * t + i];
+        if (h != kNone && seg[3 * t + i] == kNone && mark_[h / 3] == IN) continue;
+        bnd_.push_back(3 * t + i);
+        if (orient(pts[tv[3 * t + next3(i)]], pts[tv[3 * t + prev3(i)]], p) <= 0) bad = true;
+      }
+    if (!bad) return true;
+    if (!changed) return false;  // a base triangle does not see P: cannot correct
+  }
+  return false;
 }
 
 std::int32_t Triangulation::find_half_edge(VertId a, VertId b) const {

@@ -107,6 +107,7 @@ class Triangulation {
     if (h2 != kNone) opp[h2] = h1;
   }
   TriId new_tri();
+  bool star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, std::uint32_t OUT, std::uint32_t CAND);
 
   // Scratch, reused between insertions (epoch marks avoid clearing).
   mutable std::vector<std::uint32_t> mark_;
@@ -114,6 +115,12 @@ class Triangulation {
   std::vector<TriId> cav_, stack_, free_;
   std::vector<std::int32_t> bnd_;     // boundary half-edges of the cavity (inside side)
   std::vector<std::int32_t> vstart_;  // vertex -> index in bnd_ of the edge starting there
+  struct BoundaryEdge {
+    VertId a, b;
+    std::int32_t out, s;
+  };
+  std::vector<BoundaryEdge> bd_;
+  std::vector<TriId> nt_;
   mutable std::uint64_t rng_ = 0x9E3779B97F4A7C15ull;
 };
 
