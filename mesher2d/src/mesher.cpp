@@ -285,6 +285,56 @@ class Mesher {
     m_uniform_ = Metric2::iso(h_uniform_);
   }
 
+  // ---------------------------------------------------------------- edge sampling
+  // Metric length of the straight edge a -> b (eq. 7.10) by a piecewise-linear rule on a
+  // sampling refined until every piece is shorter than kPiece in the metric, so that a
+  // size feature between the endpoints (a boundary layer, a ring) is not missed; and the
+  // parameters of n - 1 points splitting it in n pieces of equal metric length.
+  struct EdgeSampler {
+    std::vector<double> ts, len, cum, nts, nl;
+  };
+  static constexpr double kPiece = 0.25;
+  double sample_edge(Vec2 a, Vec2 b, const Metric2& ma, const Metric2& mb, EdgeSampler& es) {
+    const Vec2 d{b.x - a.x, b.y - a.y};
+    es.ts.assign({0.0, 1.0});
+    es.len.assign({detail::length(ma, d), detail::length(mb, d)});
+    for (int it = 0; it < 40; ++it) {
+      es.nts.assign(1, 0.0);
+      es.nl.assign(1, es.len[0]);
+      bool split = false;
+      for (std::size_t k = 0; k + 1 < es.ts.size(); ++k) {
+        const double piece = (es.ts[k + 1] - es.ts[k]) * 0.5 * (es.len[k] + es.len[k + 1]);
+        if (piece > kPiece && es.nts.size() < 1'000'000) {
+          const double tm = 0.5 * (es.ts[k] + es.ts[k + 1]);
+          es.nts.push_back(tm);
+          es.nl.push_back(detail::length(metric(a.x + tm * d.x, a.y + tm * d.y), d));
+          split = true;
+        }
+        es.nts.push_back(es.ts[k + 1]);
+        es.nl.push_back(es.len[k + 1]);
+      }
+      es.ts.swap(es.nts);
+      es.len.swap(es.nl);
+      if (!split) break;
+    }
+    es.cum.assign(es.ts.size(), 0.0);
+    for (std::size_t k = 1; k < es.ts.size(); ++k)
+      es.cum[k] = es.cum[k - 1] + (es.ts[k] - es.ts[k - 1]) * 0.5 * (es.len[k - 1] + es.len[k]);
+    return es.cum.back();
+  }
+  // Parameters of the points splitting the sampled edge into n equal metric pieces.
+  template <class F>
+  static void split_params(const EdgeSampler& es, int n, F&& emit) {
+    const double L = es.cum.back();
+    std::size_t k = 0;
+    for (int j = 1; j < n; ++j) {
+      const double target = L * j / n;
+      while (k + 2 < es.cum.size() && es.cum[k + 1] < target) ++k;
+      const double f = (target - es.cum[k]) / std::max(es.cum[k + 1] - es.cum[k], 1e-300);
+      emit(es.ts[k] + f * (es.ts[k + 1] - es.ts[k]));
+    }
+  }
+
   // ---------------------------------------------------------------- 2. boundary
   // Curves first: every segment is split at unit length in the metric (eq. 7.10),
   // computed on a piecewise subdivision fine enough (pieces of metric length <= 1/4) to
@@ -292,50 +342,20 @@ class Mesher {
   void discretize_boundary() {
     std::vector<SegRec> out;
     out.reserve(segs_.size());
-    std::vector<double> ts, cum;
+    EdgeSampler es;
     for (const SegRec& s : segs_) {
       const Vec2 a = in_.points[s.a], b = in_.points[s.b];
-      const Vec2 d{b.x - a.x, b.y - a.y};
-      ts.assign({0.0, 1.0});
-      std::vector<double> len_at{detail::length(metric(a.x, a.y), d), detail::length(metric(b.x, b.y), d)};
-      // refine the sampling until each piece is short in the metric
-      for (int it = 0; it < 40; ++it) {
-        std::vector<double> nts{ts[0]}, nl{len_at[0]};
-        bool split = false;
-        for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
-          const double piece = (ts[k + 1] - ts[k]) * 0.5 * (len_at[k] + len_at[k + 1]);
-          if (piece > 0.25 && nts.size() < 1'000'000) {
-            const double tm = 0.5 * (ts[k] + ts[k + 1]);
-            nts.push_back(tm);
-            nl.push_back(detail::length(metric(a.x + tm * d.x, a.y + tm * d.y), d));
-            split = true;
-          }
-          nts.push_back(ts[k + 1]);
-          nl.push_back(len_at[k + 1]);
-        }
-        ts.swap(nts);
-        len_at.swap(nl);
-        if (!split) break;
-      }
-      cum.assign(ts.size(), 0.0);
-      for (std::size_t k = 1; k < ts.size(); ++k)
-        cum[k] = cum[k - 1] + (ts[k] - ts[k - 1]) * 0.5 * (len_at[k - 1] + len_at[k]);
-      const double L = cum.back();
+      const double L = sample_edge(a, b, metric(a.x, a.y), metric(b.x, b.y), es);
       const int n = std::max(1, static_cast<int>(std::lround(L)));
       VertId prev = s.a;
-      std::size_t k = 0;
-      for (int j = 1; j < n; ++j) {
-        const double target = L * j / n;
-        while (k + 1 < cum.size() && cum[k + 1] < target) ++k;
-        const double f = (target - cum[k]) / std::max(cum[k + 1] - cum[k], 1e-300);
-        const double t = ts[k] + f * (ts[k + 1] - ts[k]);
-        const Vec2 p{a.x + t * d.x, a.y + t * d.y};
+      split_params(es, n, [&](double t) {
+        const Vec2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
         const VertId v = static_cast<VertId>(extra_pts_.size() + in_.points.size());
         extra_pts_.push_back(p);
         extra_marker_.push_back(s.marker);
         out.push_back({prev, v, s.marker, s.input});
         prev = v;
-      }
+      });
       out.push_back({prev, s.b, s.marker, s.input});
     }
     segs_.swap(out);
@@ -592,6 +612,7 @@ class Mesher {
       VertId hint;
     };
     std::vector<Cand> cands;
+    EdgeSampler es;
     for (int wave = 0; wave < kMaxWaves && !field_error_; ++wave) {
       cands.clear();
       const TriId nt = tri_.num_tris();
@@ -602,19 +623,23 @@ class Mesher {
           const std::int32_t g = tri_.opp[3 * t + i];
           if (g / 3 < t) continue;  // each edge once (both sides are in the domain)
           const VertId a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
-          const double L = edge_length(a, b);
-          if (!(L > kSqrt2)) continue;
-          // §7.5.2: points at unit spacing in the metric along the edge.
-          const int n = std::max(2, static_cast<int>(std::lround(L)));
           const Vec2 pa = tri_.pts[a], pb = tri_.pts[b];
           const Vec2 d{pb.x - pa.x, pb.y - pa.y};
-          const double la = detail::length(vm_[a], d), lb = detail::length(vm_[b], d);
-          const double r = lb / la, lr = std::log(r);
-          for (int k = 1; k < n; ++k) {
-            const double s = L * k / n;
-            const double tt = std::abs(r - 1) < 1e-3 ? s / L : std::log1p(s * lr / la) / lr;
-            cands.push_back({{pa.x + tt * d.x, pa.y + tt * d.y}, a});
+          // §7.5.2: points at unit spacing in the metric along the edge. A uniform field
+          // needs no sampling; any other is sampled along the edge (eq. 7.10).
+          if (size_.kind == SizeSpec::Kind::Uniform) {
+            const double L = detail::length(m_uniform_, d);
+            if (!(L > kSqrt2)) continue;
+            const int n = std::max(2, static_cast<int>(std::lround(L)));
+            for (int k = 1; k < n; ++k)
+              cands.push_back({{pa.x + d.x * k / n, pa.y + d.y * k / n}, a});
+            continue;
           }
+          if (!(edge_length(a, b) > 0.5)) continue;  // short even with a bump in between
+          const double L = sample_edge(pa, pb, vm_[a], vm_[b], es);
+          if (!(L > kSqrt2)) continue;
+          const int n = std::max(2, static_cast<int>(std::lround(L)));
+          split_params(es, n, [&](double tt) { cands.push_back({{pa.x + tt * d.x, pa.y + tt * d.y}, a}); });
         }
       }
       if (cands.empty()) break;
