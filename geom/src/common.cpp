@@ -43,9 +43,11 @@ std::string_view to_string(SurfaceKind k) {
 Vec3 SurfacePoint::normal() const {
   const Vec3 n = glm::cross(du, dv);
   const double l = glm::length(n);
-  // Singular where |du x dv| vanishes relative to |du||dv| (a pole or a degenerate map).
-  const double ref = glm::length(du) * glm::length(dv);
-  if (!(l > 1e-14 * ref) || l == 0.0) return Vec3(0.0);
+  // Singular where |du x dv| vanishes relative to max(|du|, |dv|)^2: one derivative
+  // collapsed (a pole: |sigma_u| ~ 1e-16 |sigma_v| at a sphere's pole) or both parallel.
+  // 1e-12 ~ the smallest area ratio evaluated derivatives resolve in double precision.
+  const double ref = std::max(glm::dot(du, du), glm::dot(dv, dv));
+  if (!(l > 1e-12 * ref)) return Vec3(0.0);
   return n / l;
 }
 

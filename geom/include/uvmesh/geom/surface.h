@@ -32,7 +32,8 @@ struct SurfacePoint {
   Vec3 duu;  ///< d2 sigma / du2
   Vec3 duv;  ///< d2 sigma / du dv
   Vec3 dvv;  ///< d2 sigma / dv2
-  /// Unit normal du x dv / |du x dv|; zero vector where the map is singular.
+  /// Unit normal du x dv / |du x dv|; zero vector where the map is singular
+  /// (|du x dv| <= 1e-12 max(|du|, |dv|)^2: a pole, or parallel derivatives).
   Vec3 normal() const;
 };
 
