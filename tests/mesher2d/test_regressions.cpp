@@ -1,0 +1,231 @@
+// Regression tests of uvmesh::m2d::mesh, each named after the problem it pins, with the
+// input inline and a comment on why it is hard. Cases found by the invariant tests name
+// the generator family and seed they came from (pslg_gen.h) and were shrunk by hand or
+// by deleting points and segments while the failure persisted.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "uvmesh/mesher2d/check.h"
+#include "uvmesh/mesher2d/mesher2d.h"
+#include "uvmesh/mesher2d/predicates.h"
+
+using namespace uvmesh::m2d;
+
+namespace {
+
+Options cdt() {
+  Options o;
+  o.refine = false;
+  o.split_segments = false;
+  o.optimize = false;
+  return o;
+}
+
+std::string errors(const CheckReport& r) {
+  std::string s;
+  for (auto& e : r.errors) s += e + "\n";
+  return s;
+}
+
+// Runs the mesher and the checker; the result must be ok and valid.
+Result mesh_ok(const Pslg& in, const SizeSpec& size, const Options& opt, bool delaunay) {
+  Result r = mesh(in, size, opt);
+  INFO("status: " << r.status.message);
+  REQUIRE(r.ok());
+  const CheckReport rep = check(r.mesh, in, {.delaunay = delaunay});
+  INFO(errors(rep));
+  CHECK(rep.ok());
+  return r;
+}
+
+void add_loop(Pslg& g, std::initializer_list<Vec2> pts, int marker) {
+  const VertId base = static_cast<VertId>(g.points.size());
+  const VertId n = static_cast<VertId>(pts.size());
+  g.points.insert(g.points.end(), pts);
+  for (VertId i = 0; i < n; ++i) g.segments.push_back({base + i, base + (i + 1) % n, marker});
+}
+
+int constrained_degree(const Mesh& m, VertId v) {
+  int d = 0;
+  for (auto& e : m.boundary_edges) d += (e.a == v) + (e.b == v);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("points on a 4x4 integer grid, all cocircular in groups of 4", "[regression]") {
+  // Every unit cell has four cocircular corners: incircle is exactly 0 for each of its
+  // two diagonals, so the kernel must neither loop flipping them nor build an overlapping
+  // cavity; any diagonal is Delaunay. 16 points, 12 on the hull: 2*16 - 2 - 12 = 18.
+  Pslg in;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) in.points.push_back({static_cast<double>(i), static_cast<double>(j)});
+  const Result r = mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+  CHECK(r.mesh.triangles.size() == 18);
+  CHECK(r.mesh.vertices.size() == 16);
+  CHECK(r.mesh.boundary_edges.size() == 12);  // the hull edges, split at the 8 edge-midpoints
+}
+
+TEST_CASE("segment collinear with three input points", "[regression]") {
+  // Segment 4 runs from (0,0) to (4,12) through input points (1,3), (2,6), (3,9): it must
+  // be split at all three (exactly collinear: orient2d == 0), not recovered as one edge
+  // with degenerate triangles along it, nor discretized past them with rounded Steiner
+  // points that leave each input point a needle's width off the chain. The segment is
+  // slanted on purpose: on an axis-parallel one the Steiner points are exactly collinear
+  // too and enforcement happens to split at the input points anyway.
+  Pslg in;
+  add_loop(in, {{-1, -1}, {5, -1}, {5, 13}, {-1, 13}}, 1);
+  in.points.insert(in.points.end(), {{0, 0}, {4, 12}, {1, 3}, {2, 6}, {3, 9}});
+  in.segments.push_back({4, 5, 2});
+  SECTION("constrained Delaunay, no refinement") {
+    const Result r = mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+    CHECK(r.stats.segments_split_at_vertices >= 1);
+    for (VertId i = 6; i <= 8; ++i) CHECK(constrained_degree(r.mesh, r.mesh.input_vertex[i]) == 2);
+  }
+  SECTION("refined with size 0.3") {
+    // Found by test_invariants "a segment through input vertices is split there"
+    // (gen::segment_through_vertex, most seeds with refine=true): with
+    // split_segments=true the segment is discretized from end to end and the input
+    // points on it get no constrained edge (segments_split_at_vertices == 0).
+    const Result r = mesh_ok(in, SizeSpec::uniform(0.3), Options{}, false);
+    CHECK(r.stats.segments_split_at_vertices >= 1);
+    for (VertId i = 6; i <= 8; ++i) {
+      INFO("input point " << i);
+      CHECK(constrained_degree(r.mesh, r.mesh.input_vertex[i]) == 2);
+    }
+  }
+  SECTION("axis-parallel, refined with size 0.3") {
+    Pslg h;
+    add_loop(h, {{-1, -1}, {5, -1}, {5, 1}, {-1, 1}}, 1);
+    h.points.insert(h.points.end(), {{0, 0}, {4, 0}, {1, 0}, {2, 0}, {3, 0}});
+    h.segments.push_back({4, 5, 2});
+    const Result r = mesh_ok(h, SizeSpec::uniform(0.3), Options{}, false);
+    for (VertId i = 6; i <= 8; ++i) CHECK(constrained_degree(r.mesh, r.mesh.input_vertex[i]) == 2);
+  }
+}
+
+TEST_CASE("two segments meeting at 1 degree", "[regression]") {
+  // A 1-degree angle between two constrained segments: no triangle can be well shaped
+  // there, so a quality-driven refinement would not terminate; a size-driven one must
+  // stop, and boundary discretization must not put Steiner points of one segment across
+  // the other (at distance r, they are only r * 0.017 apart).
+  Pslg in;
+  add_loop(in, {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}, 1);
+  const double a = std::numbers::pi / 180;
+  in.points.insert(in.points.end(), {{0, 0}, {0.8, 0}, {0.8 * std::cos(a), 0.8 * std::sin(a)}});
+  in.segments.push_back({4, 5, 2});
+  in.segments.push_back({4, 6, 2});
+  SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
+  SECTION("refined") {
+    const Result r = mesh_ok(in, SizeSpec::uniform(0.05), Options{}, false);
+    CHECK(r.mesh.triangles.size() < 20000);  // 4 / (0.43 * 0.05^2) ~ 3700 expected
+  }
+}
+
+TEST_CASE("near-duplicate points 1 ulp apart", "[regression]") {
+  // (1,1), (1+ulp,1), (1,1+ulp): distinct points 2.2e-16 apart. They are not duplicates
+  // and must all be vertices; the triangles between them have areas near 1e-32, where
+  // every floating-point orientation is noise and only the exact predicate decides.
+  const double u = std::nextafter(1.0, 2.0);
+  Pslg in;
+  add_loop(in, {{0, 0}, {2, 0}, {2, 2}, {0, 2}}, 1);
+  in.points.insert(in.points.end(), {{1, 1}, {u, 1}, {1, u}, {u, u}, {1, 1}});
+  SECTION("constrained Delaunay") {
+    const Result r = mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+    CHECK(r.stats.duplicates_merged == 1);  // only the exact copy of (1,1)
+    CHECK(r.mesh.vertices.size() == 8);
+    CHECK(r.mesh.input_vertex[8] == r.mesh.input_vertex[4]);
+  }
+  SECTION("refined") { mesh_ok(in, SizeSpec::uniform(0.2), Options{}, false); }
+}
+
+TEST_CASE("hole touching the outer boundary at one vertex", "[regression]") {
+  // The triangular hole (2,0) (3,2) (1,2) shares vertex (2,0) with the outer boundary:
+  // the domain is still connected but vertex (2,0) has two separate fans of triangles,
+  // and the coloring must not leak from the hole into the exterior through that vertex.
+  Pslg in;
+  add_loop(in, {{0, 0}, {2, 0}, {4, 0}, {4, 4}, {0, 4}}, 1);
+  in.points.insert(in.points.end(), {{3, 2}, {1, 2}});
+  in.segments.push_back({1, 5, 2});
+  in.segments.push_back({5, 6, 2});
+  in.segments.push_back({6, 1, 2});
+  in.holes = {{2, 1}};
+  for (const bool refine : {false, true}) {
+    DYNAMIC_SECTION("refine=" << refine) {
+      const Result r = refine ? mesh_ok(in, SizeSpec::uniform(0.25), Options{}, false)
+                              : mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+      double area = 0;
+      for (auto& t : r.mesh.triangles) {
+        const Vec2 &a = r.mesh.vertices[t[0]], &b = r.mesh.vertices[t[1]], &c = r.mesh.vertices[t[2]];
+        area += 0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+      }
+      CHECK(area == Approx(16.0 - 2.0));  // square minus the hole
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Found by the invariant tests.
+
+TEST_CASE("orient2d keeps its sign when the exact value underflows", "[regression][predicates]") {
+  // d = 4.9e-324, the smallest denormal. orient2d((-d, 3+ulp), (0,-d), (0,0)) = d*d*(1)
+  // exactly (about 2.4e-647, below the smallest double): a floating-point expansion of
+  // the products underflows to zero, so the predicate says "collinear" for three points
+  // that are not. predicates.h promises the exact sign whatever the doubles.
+  const double d = std::numeric_limits<double>::denorm_min();
+  const double a[2] = {-d, std::nextafter(3.0, 4.0)}, b[2] = {0, -d}, c[2] = {0, 0};
+  CHECK(pred::orient2d(a, b, c) > 0);
+  CHECK(pred::orient2d(b, a, c) < 0);
+}
+
+TEST_CASE("hull vertex 1 denormal below another point is dropped", "[regression]") {
+  // From test_invariants, gen::duplicate_points(227) before that family stopped making
+  // denormals (nextafter(0)); shrunk to four points. (0,-d) is a hull vertex, (0,0) is
+  // inside the hull by d*d. With orient2d == 0 for that triple (test above) the mesher
+  // drops input point 0 and triangulates the other three: 1 triangle instead of 3,
+  // input_vertex[0] == kNone although the domain is the convex hull of all points.
+  const double d = std::numeric_limits<double>::denorm_min();
+  Pslg in;
+  in.points = {{0, -d}, {0, 0}, {-d, std::nextafter(3.0, 4.0)}, {4, 1}};
+  const Result r = mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+  CHECK(r.mesh.input_vertex[0] != kNone);
+  CHECK(r.mesh.triangles.size() == 3);
+}
+
+TEST_CASE("nearly collinear segments from one point on a 0.1-scaled grid", "[regression]") {
+  // From test_invariants, gen::random_segments(30) with refine=true, shrunk: segments
+  // (0.6,0.3)-(0.2,0.7) and (0.4,0.5)-(0.2,0.7) share (0.2,0.7) (coordinates are
+  // i * 0.1 rounded: 6 * 0.1 is 0.6000000000000001, not the literal 0.6). On paper (0.4,0.5) is on
+  // the first segment; in doubles it is 1e-17 off it, so the exact input has no crossing
+  // and the constrained Delaunay triangulation is fine. Boundary discretization puts
+  // rounded Steiner points on both segments, and the pieces cross: status
+  // CrossingSegments "segment 1 (points 2-1) crosses segment 0 (points 0-1)" for an input
+  // whose segments do not cross.
+  Pslg in;
+  add_loop(in, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
+  in.points.insert(in.points.end(), {{0.6000000000000001, 0.30000000000000004}, {0.2, 0.7000000000000001}, {0.4, 0.5}});
+  in.segments.push_back({4, 5, 2});
+  in.segments.push_back({6, 5, 2});
+  SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
+  SECTION("refined, h = 0.07") { mesh_ok(in, SizeSpec::uniform(0.070002963690370873), Options{}, false); }
+}
+
+TEST_CASE("nearly overlapping collinear segments on a 0.1-scaled grid", "[regression]") {
+  // From test_invariants, gen::random_segments(58) with refine=true, shrunk: segments
+  // (0.9,0.7)-(1.2,0.4) and (1.0,0.6)-(1.3,0.3) lie on x + y = 1.6 on paper and overlap
+  // on [1.0, 1.2]; in doubles the four points are not collinear and the segments are
+  // disjoint, 1e-16 apart. The CDT is valid; with refinement the discretized pieces
+  // cross: CrossingSegments "segment 1 (points 3-0) crosses segment 0 (points 1-2)".
+  Pslg in;
+  add_loop(in, {{0.5, 0}, {1.5, 0}, {1.5, 1}, {0.5, 1}}, 1);
+  in.points.insert(in.points.end(),
+                   {{1.3, 0.30000000000000004}, {0.9, 0.7000000000000001}, {1.2000000000000002, 0.4}, {1, 0.6000000000000001}});
+  in.segments.push_back({5, 6, 2});
+  in.segments.push_back({7, 4, 2});
+  SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
+  SECTION("refined, h = 0.037") { mesh_ok(in, SizeSpec::uniform(0.036975942097876947), Options{}, false); }
+}
