@@ -137,6 +137,8 @@ FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, cons
       if (i + 1 < n_ && j + 1 < n_) edges.emplace_back(id(i, j), id(i + 1, j + 1));
     }
   corrections_ = gradate(grid_, pts, edges, spec_.gradation);
+  grid_inv_sqrt_.reserve(grid_.size());
+  for (const Metric3& m : grid_) grid_inv_sqrt_.push_back(m.power(-0.5));
 }
 
 Metric3 FaceSizeField::metric3(double u, double v) const {
@@ -149,7 +151,7 @@ Metric3 FaceSizeField::metric3(double u, double v) const {
   double tu, tv;
   cell(box_.u, u, i, tu);
   cell(box_.v, v, j, tv);
-  auto g = [&](int a, int b) { return grid_[static_cast<std::size_t>(a * n_ + b)].power(-0.5); };
+  auto g = [&](int a, int b) -> const Metric3& { return grid_inv_sqrt_[static_cast<std::size_t>(a * n_ + b)]; };
   // Bilinear interpolation of M^{-1/2} (sizes), as in interpolate().
   const Metric3 s = g(i, j) * ((1 - tu) * (1 - tv)) + g(i + 1, j) * (tu * (1 - tv)) + g(i, j + 1) * ((1 - tu) * tv) +
                     g(i + 1, j + 1) * (tu * tv);

@@ -103,6 +103,7 @@ class FaceSizeField {
   SizeSpec spec_;
   int n_;
   std::vector<Metric3> grid_;
+  std::vector<Metric3> grid_inv_sqrt_;  ///< M^{-1/2} per node: what is interpolated
   int corrections_ = 0;
 };
 
