@@ -261,6 +261,9 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     if (evalid[e]) entries[start[std::min(E[e].a, E[e].b) + 1]++] = {std::max(E[e].a, E[e].b), -1 - e};
   // Now bucket lo is entries[start[lo], start[lo+1]).
 
+  // canon[e]: the first constrained edge with the same two vertices as e (duplicates
+  // in boundary_edges, e.g. from an input segment given twice, count as one).
+  std::vector<std::int32_t> canon(static_cast<std::size_t>(ne), -1);
   std::vector<std::uint8_t> on_boundary(static_cast<std::size_t>(nv), 0);  // in a once-used edge
   bool manifold = true;
   std::int64_t nedges = 0;
@@ -279,6 +282,7 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
       for (EdgeEntry* x = g; x < h; ++x) {
         if (x->code < 0) {
           if (constrained < 0) constrained = -1 - x->code;
+          canon[-1 - x->code] = constrained;
         } else {
           halves.push_back(x->code);
         }
@@ -424,12 +428,20 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
       if (evalid[e]) ++cs[E[e].a + 2], ++cs[E[e].b + 2];
     for (std::size_t i = 2; i < cs.size(); ++i) cs[i] += cs[i - 1];
     std::vector<VertId> cadj(static_cast<std::size_t>(cs.back()));
+    std::vector<std::int32_t> cedge(static_cast<std::size_t>(cs.back()));
     for (std::int32_t e = 0; e < ne; ++e)
-      if (evalid[e]) cadj[cs[E[e].a + 1]++] = E[e].b, cadj[cs[E[e].b + 1]++] = E[e].a;
-
+      if (evalid[e]) {
+        cedge[cs[E[e].a + 1]] = e, cadj[cs[E[e].a + 1]++] = E[e].b;
+        cedge[cs[E[e].b + 1]] = e, cadj[cs[E[e].b + 1]++] = E[e].a;
+      }
+    // The converse: every constrained edge must lie on the chain of some input segment.
+    // This catches a chain bent away from its segment (a misplaced Steiner vertex) when
+    // the segment itself is accepted as leaving the domain (below).
+    std::vector<std::uint8_t> on_chain(static_cast<std::size_t>(ne), 0);
     std::vector<std::int64_t> visit(static_cast<std::size_t>(nv), -1);  // segment that reached a vertex
     std::vector<VertId> stack;
-    std::vector<std::pair<int, VertId>> cand;
+    std::vector<VertId> dead_ends;
+    std::vector<std::int32_t> vstart, vtris;  // vertex -> 3 t + k, built on first need
     for (std::size_t s = 0; s < in.segments.size() && !err.full(); ++s) {
       const auto& sg = in.segments[s];
       const std::string sname = "segment " + std::to_string(s) + " (input " + std::to_string(sg.a) + "-" +
@@ -439,65 +451,110 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
         err.add(sname + " references a point out of range [0," + std::to_string(np) + ")");
         continue;
       }
-      const VertId va = vmap[sg.a], vb = vmap[sg.b];
-      // An endpoint outside the domain: the segment was removed with the exterior or
-      // clipped by it (its presence inside is checked through the missing-point queries).
-      if (va == kNone || vb == kNone || va == vb) continue;
-      const Vec2 A = V[va], B = V[vb];
+      VertId va = vmap[sg.a], vb = vmap[sg.b];
+      // Both ends outside the domain: the segment went with the exterior or a hole.
+      // One end outside: walk from the other one; the chain must leave the domain.
+      if (va == kNone && vb == kNone) continue;
+      Vec2 A, B;
+      if (va == kNone) {
+        va = vb;
+        vb = kNone;
+        A = V[va], B = in.points[sg.a];
+      } else {
+        A = V[va], B = vb == kNone ? in.points[sg.b] : V[vb];
+      }
+      if (va == vb || (A.x == B.x && A.y == B.y)) continue;
       const bool use_x = std::abs(B.x - A.x) >= std::abs(B.y - A.y);
       const double sgn = (use_x ? B.x - A.x : B.y - A.y) > 0 ? 1.0 : -1.0;
       auto key = [&](const Vec2& p) { return sgn * (use_x ? p.x : p.y); };  // monotone along AB
       const double len = std::hypot(B.x - A.x, B.y - A.y);
       const double mag = std::max({std::abs(A.x), std::abs(A.y), std::abs(B.x), std::abs(B.y)});
-      // Depth-first search along constrained edges whose far vertex advances toward B
-      // and lies on the segment: vb first, then exactly collinear vertices, then rounded
-      // ones. A plain greedy walk is not enough: two input segments from one point may
-      // be nearly collinear (a grid scaled by 0.1), and the shorter one's far end is
-      // within rounding of the longer one's line without being on the chain.
+      // Search along constrained edges whose far vertex advances toward B and lies on
+      // the segment (exactly, or within rounding). The whole reachable set is explored,
+      // not one greedy path: two input segments from one point may be nearly collinear
+      // (a grid scaled by 0.1), so both chains are within rounding of both lines and
+      // either may lead on; every edge met this way lies on the segment and is marked.
       const double kb = key(B);
       stack.clear();
+      dead_ends.clear();
       stack.push_back(va);
       visit[va] = static_cast<std::int64_t>(s);
       VertId furthest = va;
       bool reached = false;
-      while (!stack.empty() && !reached) {
+      while (!stack.empty()) {
         const VertId cur = stack.back();
         stack.pop_back();
         const double kc = key(V[cur]);
         if (kc > key(V[furthest])) furthest = cur;
-        cand.clear();
+        bool onward = false;
         for (std::int32_t j = cs[cur]; j < cs[cur + 1]; ++j) {
           const VertId n = cadj[j];
+          if (n != vb) {
+            const Vec2& P = V[n];
+            const double kp = key(P);
+            if (!(kp > kc && kp < kb)) continue;
+            const double o = orient(A, B, P);
+            if (o != 0) {
+              const double pm = std::max({mag, std::abs(P.x), std::abs(P.y)});
+              const double dist = std::abs(o) / len;
+              if (!(dist <= kSegmentTolUlps * std::numeric_limits<double>::epsilon() * pm)) continue;
+            }
+          }
+          onward = true;
+          on_chain[canon[cedge[j]]] = 1;
           if (n == vb) {
             reached = true;
-            break;
+          } else if (visit[n] != static_cast<std::int64_t>(s)) {
+            visit[n] = static_cast<std::int64_t>(s);
+            stack.push_back(n);
           }
-          if (visit[n] == static_cast<std::int64_t>(s)) continue;
-          const Vec2& P = V[n];
-          const double kp = key(P);
-          if (!(kp > kc && kp < kb)) continue;
-          const double o = orient(A, B, P);
-          int rank = 0;  // 0: exactly on the line, 1: within rounding of it
-          if (o != 0) {
-            const double pm = std::max({mag, std::abs(P.x), std::abs(P.y)});
-            const double dist = std::abs(o) / len;
-            if (!(dist <= kSegmentTolUlps * std::numeric_limits<double>::epsilon() * pm)) continue;
-            rank = 1;
-          }
-          cand.push_back({rank, n});
         }
-        // Pushed in reverse preference so that the preferred candidate is popped first.
-        std::sort(cand.begin(), cand.end(), [](auto& x, auto& y) { return x.first > y.first; });
-        for (auto& [rank, n] : cand) {
-          visit[n] = static_cast<std::int64_t>(s);
-          stack.push_back(n);
+        if (!onward) dead_ends.push_back(cur);
+      }
+      if (reached) continue;
+      // No chain to B. That is right when the segment leaves the domain where the chain
+      // stops: the rest of it was removed with the exterior or a hole (a dangling
+      // segment outside the outer boundary, one end outside). It is wrong when the
+      // segment goes on into a triangle there. At a dead end F, the direction F->B is in
+      // the closed angular sector of a triangle (F, P, Q) iff orient(F,P,B) >= 0 and
+      // orient(F,B,Q) >= 0 (the angle at F is below pi). Accept when at some dead end no
+      // triangle contains the direction. (A segment leaving a hole's boundary through a
+      // vertex and re-entering the domain later is accepted without checking the rest.)
+      if (vstart.empty()) {
+        vstart.assign(static_cast<std::size_t>(nv) + 2, 0);
+        for (TriId t = 0; t < nt; ++t)
+          if (ccw[t])
+            for (int k = 0; k < 3; ++k) ++vstart[T[t][k] + 2];
+        for (std::size_t i = 2; i < vstart.size(); ++i) vstart[i] += vstart[i - 1];
+        vtris.resize(static_cast<std::size_t>(vstart.back()));
+        for (TriId t = 0; t < nt; ++t)
+          if (ccw[t])
+            for (int k = 0; k < 3; ++k) vtris[vstart[T[t][k] + 1]++] = 3 * t + k;
+      }
+      bool leaves = false;
+      for (const VertId f : dead_ends) {
+        bool inside = false;
+        for (std::int32_t j = vstart[f]; j < vstart[f + 1] && !inside; ++j) {
+          const auto& v = T[vtris[j] / 3];
+          const int k = vtris[j] % 3;
+          const Vec2 &F = V[v[k]], &P = V[v[(k + 1) % 3]], &Q = V[v[(k + 2) % 3]];
+          inside = orient(F, P, B) >= 0 && orient(F, B, Q) >= 0;
+        }
+        if (!inside) {
+          leaves = true;
+          break;
         }
       }
-      if (!reached)
+      if (!leaves)
         err.add(sname + " is not covered by constrained edges: the chain from vertex " + std::to_string(va) +
-                " to vertex " + std::to_string(vb) + " stops at vertex " + std::to_string(furthest) + " " +
-                pt(V[furthest]));
+                " toward " + (vb == kNone ? "input point " + pt(B) : "vertex " + std::to_string(vb)) +
+                " stops at vertex " + std::to_string(furthest) + " " + pt(V[furthest]) +
+                ", where the segment goes on into the domain");
     }
+    for (std::int32_t e = 0; e < ne && !err.full(); ++e)
+      if (evalid[e] && canon[e] == e && !on_chain[e])
+        err.add("constrained edge " + std::to_string(e) + " " + edge_str(E[e].a, E[e].b) + " " + pt(V[E[e].a]) + "-" +
+                pt(V[E[e].b]) + " is not on any input segment");
   }
 
   // ---- 7. point queries ----------------------------------------------------------------

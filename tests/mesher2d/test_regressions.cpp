@@ -88,9 +88,9 @@ TEST_CASE("segment collinear with three input points", "[regression]") {
   }
   SECTION("refined with size 0.3") {
     // Found by test_invariants "a segment through input vertices is split there"
-    // (gen::segment_through_vertex, most seeds with refine=true): with
-    // split_segments=true the segment is discretized from end to end and the input
-    // points on it get no constrained edge (segments_split_at_vertices == 0).
+    // (gen::segment_through_vertex, most seeds with refine=true), failing at commit
+    // cae6781: with split_segments=true the segment was discretized from end to end and
+    // the input points on it got no constrained edge (segments_split_at_vertices == 0).
     const Result r = mesh_ok(in, SizeSpec::uniform(0.3), Options{}, false);
     CHECK(r.stats.segments_split_at_vertices >= 1);
     for (VertId i = 6; i <= 8; ++i) {
@@ -204,7 +204,7 @@ TEST_CASE("nearly collinear segments from one point on a 0.1-scaled grid", "[reg
   // and the constrained Delaunay triangulation is fine. Boundary discretization puts
   // rounded Steiner points on both segments, and the pieces cross: status
   // CrossingSegments "segment 1 (points 2-1) crosses segment 0 (points 0-1)" for an input
-  // whose segments do not cross.
+  // whose segments do not cross (at commit cae6781).
   Pslg in;
   add_loop(in, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
   in.points.insert(in.points.end(), {{0.6000000000000001, 0.30000000000000004}, {0.2, 0.7000000000000001}, {0.4, 0.5}});
@@ -219,7 +219,8 @@ TEST_CASE("nearly overlapping collinear segments on a 0.1-scaled grid", "[regres
   // (0.9,0.7)-(1.2,0.4) and (1.0,0.6)-(1.3,0.3) lie on x + y = 1.6 on paper and overlap
   // on [1.0, 1.2]; in doubles the four points are not collinear and the segments are
   // disjoint, 1e-16 apart. The CDT is valid; with refinement the discretized pieces
-  // cross: CrossingSegments "segment 1 (points 3-0) crosses segment 0 (points 1-2)".
+  // crossed (commit cae6781): CrossingSegments "segment 1 (points 3-0) crosses segment 0
+  // (points 1-2)".
   Pslg in;
   add_loop(in, {{0.5, 0}, {1.5, 0}, {1.5, 1}, {0.5, 1}}, 1);
   in.points.insert(in.points.end(),
@@ -228,4 +229,49 @@ TEST_CASE("nearly overlapping collinear segments on a 0.1-scaled grid", "[regres
   in.segments.push_back({7, 4, 2});
   SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
   SECTION("refined, h = 0.037") { mesh_ok(in, SizeSpec::uniform(0.036975942097876947), Options{}, false); }
+}
+
+TEST_CASE("three nearly collinear segments from one point on a 0.1-scaled grid", "[regression]") {
+  // From test_invariants, gen::random_segments(33) (and 179, the same shape) with
+  // refine=true, shrunk: segments from (0.6,0.2) to (0.2,0.6), (0.3,0.5) and (0.4,0.4),
+  // all on x + y = 0.8 on paper, pairwise 1e-17 apart in doubles except at the shared
+  // end. Crossings among the rounded Steiner points of three segments: status
+  // CrossingSegments "segment 6 (points 4-6) crosses segment 5 (points 4-7) and the
+  // crossing point could not be inserted" (h = 0.05; h = 0.03 and 0.1 pass).
+  Pslg in;
+  add_loop(in, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
+  in.points.insert(in.points.end(), {{0.6000000000000001, 0.2}, {0.2, 0.6000000000000001}, {0.4, 0.4},
+                                     {0.30000000000000004, 0.5}});
+  in.segments.push_back({5, 4, 2});
+  in.segments.push_back({4, 7, 2});
+  in.segments.push_back({4, 6, 2});
+  SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
+  SECTION("refined, h = 0.05") { mesh_ok(in, SizeSpec::uniform(0.05), Options{}, false); }
+  SECTION("refined, h = 0.0595") { mesh_ok(in, SizeSpec::uniform(0.059501741166982348), Options{}, false); }
+}
+
+TEST_CASE("two nearly collinear segments from one point enclose nothing", "[regression]") {
+  // The same kind of pair as above with no boundary around it: (0.2,0.6)-(0.6,0.2) and
+  // (0.6,0.2)-(0.3,0.5) share one end and, in exact arithmetic, enclose no region: the
+  // answer is OpenBoundary. With refinement (h = 0.0595) the mesher split a crossing
+  // between its own rounded Steiner points, which closed sliver loops, kept those as the
+  // domain and dropped the rest: status Ok, input points 1 and 2 missing, and constrained
+  // edges such as (0.44,0.36)-(0.4286,0.3714) belonging to no input segment's chain.
+  Pslg in;
+  in.points = {{0.6000000000000001, 0.2}, {0.2, 0.6000000000000001}, {0.30000000000000004, 0.5}};
+  in.segments = {{1, 0, 2}, {0, 2, 2}};
+  for (const bool refine : {false, true}) {
+    DYNAMIC_SECTION("refine=" << refine) {
+      const Result r = refine ? mesh(in, SizeSpec::uniform(0.059501741166982348), Options{})
+                              : mesh(in, SizeSpec::uniform(0), cdt());
+      INFO("status: " << r.status.message);
+      if (r.ok()) {
+        const CheckReport rep = check(r.mesh, in);
+        INFO(errors(rep));
+        CHECK(rep.ok());
+      } else {
+        CHECK(r.status.code == StatusCode::OpenBoundary);
+      }
+    }
+  }
 }
