@@ -87,12 +87,16 @@ class Mesher {
     merge_duplicates();
     build_segments();
     stage("input", t0);
-    if (opt_.refine && opt_.split_segments) discretize_boundary();
-    stage("boundary discretization", t0);
     if (!triangulate()) return;
     stage("delaunay", t0);
     if (!enforce_all()) return;
     stage("boundary enforcement", t0);
+    if (opt_.refine && opt_.split_segments && refine_ok_) {
+      // Curves first: split the enforced segments (input segments already split at the
+      // input vertices lying on them, and at crossings) at unit metric length.
+      if (!discretize_boundary()) return;
+      stage("boundary discretization", t0);
+    }
     if (!color()) return;
     stage("coloring", t0);
     if (opt_.check && !internal_check("after coloring")) return;
@@ -339,38 +343,54 @@ class Mesher {
   // Curves first: every segment is split at unit length in the metric (eq. 7.10),
   // computed on a piecewise subdivision fine enough (pieces of metric length <= 1/4) to
   // follow a varying field.
-  void discretize_boundary() {
-    std::vector<SegRec> out;
-    out.reserve(segs_.size());
+  bool discretize_boundary() {
     EdgeSampler es;
-    for (const SegRec& s : segs_) {
-      const Vec2 a = in_.points[s.a], b = in_.points[s.b];
+    std::vector<std::int32_t> work;
+    const std::size_t nseg = segs_.size();
+    std::vector<VertId> chain;
+    for (std::size_t sid = 0; sid < nseg; ++sid) {
+      const SegRec s = segs_[sid];
+      if (!s.alive) continue;
+      const Vec2 a = tri_.pts[s.a], b = tri_.pts[s.b];
       const double L = sample_edge(a, b, metric(a.x, a.y), metric(b.x, b.y), es);
       const int n = std::max(1, static_cast<int>(std::lround(L)));
-      VertId prev = s.a;
+      if (n == 1) continue;
+      tri_.unconstrain(s.a, s.b);
+      segs_[sid].alive = false;
+      chain.assign(1, s.a);
+      InsertParams prm;
+      bool ok = true;
       split_params(es, n, [&](double t) {
+        if (!ok) return;
         const Vec2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
-        const VertId v = static_cast<VertId>(extra_pts_.size() + in_.points.size());
-        extra_pts_.push_back(p);
-        extra_marker_.push_back(s.marker);
-        out.push_back({prev, v, s.marker, s.input});
-        prev = v;
+        const auto r = tri_.insert_point(p, tri_.vtri[chain.back()], prm);
+        if (r.status == InsertStatus::Inserted) {
+          fixed_.push_back(1);
+          vmark_.push_back(s.marker);
+          chain.push_back(r.v);
+        } else if (r.status == InsertStatus::Duplicate) {
+          if (r.v != chain.back()) chain.push_back(r.v);
+        } else {
+          ok = false;  // e.g. lands on another constrained edge: keep the segment whole
+        }
       });
-      out.push_back({prev, s.b, s.marker, s.input});
+      chain.push_back(s.b);
+      for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+        if (chain[k] != chain[k + 1]) work.push_back(add_seg({chain[k], chain[k + 1], s.marker, s.input}));
     }
-    segs_.swap(out);
+    std::reverse(work.begin(), work.end());
+    // The input segments were enforced without crossing above; a crossing now can only
+    // come from split points rounded to the other side of a nearly collinear neighbour
+    // segment. Splitting there (a vertex within rounding of both) is the faithful answer.
+    return enforce_work(work, /*split_crossings=*/true);
   }
 
-  // "Point index" space used before triangulation: input points 0..n-1, then extra points.
-  Vec2 point(VertId i) const {
-    const std::size_t n = in_.points.size();
-    return static_cast<std::size_t>(i) < n ? in_.points[i] : extra_pts_[i - n];
-  }
+  Vec2 point(VertId i) const { return in_.points[i]; }
 
   // ---------------------------------------------------------------- 3. Delaunay
   bool triangulate() {
     const std::size_t n = in_.points.size();
-    const std::size_t ntot = n + extra_pts_.size();
+    const std::size_t ntot = n;
     double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
     for (std::size_t i = 0; i < ntot; ++i) {
       const Vec2 p = point(static_cast<VertId>(i));
@@ -413,9 +433,7 @@ class Mesher {
         return fail(StatusCode::InternalError, "could not insert point " + std::to_string(i) + " " + fmt_pt(point(i)));
       vid_[i] = v;
       fixed_.push_back(1);
-      vmark_.push_back(static_cast<std::size_t>(i) < n
-                           ? (in_.point_markers.empty() ? 0 : in_.point_markers[i])
-                           : extra_marker_[i - n]);
+      vmark_.push_back(in_.point_markers.empty() ? 0 : in_.point_markers[i]);
       hint = tri_.vtri[v];
     }
     for (std::size_t i = 0; i < n; ++i) vid_[i] = vid_[rep_[i]];
@@ -434,6 +452,11 @@ class Mesher {
     std::vector<std::int32_t> work(segs_.size());
     std::iota(work.begin(), work.end(), 0);
     std::reverse(work.begin(), work.end());
+    return enforce_work(work);
+  }
+  // Enforces the segments in work (a stack), splitting them at the vertices they pass
+  // through and, by option, at crossings.
+  bool enforce_work(std::vector<std::int32_t>& work, bool split_crossings = false) {
     std::int64_t budget = 16 * static_cast<std::int64_t>(segs_.size()) + 4096;
     while (!work.empty()) {
       const std::int32_t sid = work.back();
@@ -455,15 +478,22 @@ class Mesher {
       if (r.crossing_seg == kNone)
         return fail(StatusCode::InternalError, "boundary enforcement failed on segment " + seg_name(s));
       const SegRec o = segs_[r.crossing_seg];
-      if (!opt_.split_crossing_segments)
+      if (!opt_.split_crossing_segments && !split_crossings)
         return fail(StatusCode::CrossingSegments,
                     "segment " + seg_name(s) + " crosses segment " + seg_name(o),
                     {s.input, o.input});
       // Split both at their intersection point.
       const Vec2 pa = tri_.pts[s.a], pb = tri_.pts[s.b], pc = tri_.pts[o.a], pd = tri_.pts[o.b];
+      // Parameters on both segments, clamped: for nearly parallel segments the line
+      // intersection is ill-conditioned along the lines (not across them), so the point
+      // is taken as the mean of the two clamped points, close to both segments.
       const double den = (pb.x - pa.x) * (pd.y - pc.y) - (pb.y - pa.y) * (pd.x - pc.x);
-      const double t = ((pc.x - pa.x) * (pd.y - pc.y) - (pc.y - pa.y) * (pd.x - pc.x)) / den;
-      const Vec2 x{pa.x + t * (pb.x - pa.x), pa.y + t * (pb.y - pa.y)};
+      double t = ((pc.x - pa.x) * (pd.y - pc.y) - (pc.y - pa.y) * (pd.x - pc.x)) / den;
+      double u = ((pc.x - pa.x) * (pb.y - pa.y) - (pc.y - pa.y) * (pb.x - pa.x)) / den;
+      t = std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.5;
+      u = std::isfinite(u) ? std::clamp(u, 0.0, 1.0) : 0.5;
+      const Vec2 x{0.5 * (pa.x + t * (pb.x - pa.x) + pc.x + u * (pd.x - pc.x)),
+                   0.5 * (pa.y + t * (pb.y - pa.y) + pc.y + u * (pd.y - pc.y))};
       tri_.unconstrain(o.a, o.b);
       segs_[r.crossing_seg].alive = false;
       segs_[sid].alive = false;
@@ -936,8 +966,6 @@ class Mesher {
   Triangulation tri_;
   std::vector<std::int32_t> rep_;   // input point -> representative input point
   std::vector<VertId> vid_;         // point index -> triangulation vertex
-  std::vector<Vec2> extra_pts_;     // boundary split points
-  std::vector<int> extra_marker_;
   std::vector<SegRec> segs_;
   std::vector<char> fixed_;         // per triangulation vertex: not movable
   std::vector<int> vmark_;          // per triangulation vertex: marker
