@@ -175,10 +175,13 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
   const bool have_region = m.triangle_region.size() == T.size() && nt > 0;
   const bool have_attr = m.triangle_attribute.size() == T.size() && nt > 0;
 
-  for (VertId i = 0; i < nv && !err.full(); ++i)
-    if (!std::isfinite(V[i].x) || !std::isfinite(V[i].y))
+  bool all_finite = true;
+  for (VertId i = 0; i < nv; ++i)
+    if (!std::isfinite(V[i].x) || !std::isfinite(V[i].y)) {
+      all_finite = false;
       err.add("vertex " + std::to_string(i) + " has a non-finite coordinate " + pt(V[i]));
-  {
+    }
+  if (all_finite) {  // (NaN would break the strict weak order of the sort)
     // Two mesh vertices at the same place would let two sheets of triangles overlap
     // without any edge or angle check noticing.
     std::vector<VertId> order(static_cast<std::size_t>(nv));
@@ -243,7 +246,7 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
   }
 
   // Counting sort of half-edges and constrained edges by their smaller vertex.
-  std::vector<std::int32_t> start(static_cast<std::size_t>(nv) + 2, 0);
+  std::vector<std::int64_t> start(static_cast<std::size_t>(nv) + 2, 0);
   for (TriId t = 0; t < nt; ++t)
     if (valid[t])
       for (int k = 0; k < 3; ++k) ++start[std::min(T[t][k], T[t][(k + 1) % 3]) + 2];
