@@ -467,9 +467,18 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
         A = V[va], B = vb == kNone ? in.points[sg.b] : V[vb];
       }
       if (va == vb || (A.x == B.x && A.y == B.y)) continue;
+      // Position along AB: the coordinate of AB's dominant axis, then the other one (both
+      // signed to grow from A to B), compared lexicographically. Exact, and monotone for
+      // points on the line; the second coordinate orders a rounded Steiner vertex that
+      // shares the first one with its neighbour (a crossing point 1 ulp from an input
+      // point, moved along the minor axis only).
       const bool use_x = std::abs(B.x - A.x) >= std::abs(B.y - A.y);
-      const double sgn = (use_x ? B.x - A.x : B.y - A.y) > 0 ? 1.0 : -1.0;
-      auto key = [&](const Vec2& p) { return sgn * (use_x ? p.x : p.y); };  // monotone along AB
+      const double dmaj = use_x ? B.x - A.x : B.y - A.y, dmin = use_x ? B.y - A.y : B.x - A.x;
+      const double s1 = dmaj > 0 ? 1.0 : -1.0, s2 = dmin > 0 ? 1.0 : (dmin < 0 ? -1.0 : 0.0);
+      using Key = std::pair<double, double>;
+      auto key = [&](const Vec2& p) {
+        return Key{s1 * (use_x ? p.x : p.y), s2 == 0 ? 0.0 : s2 * (use_x ? p.y : p.x)};
+      };
       const double len = std::hypot(B.x - A.x, B.y - A.y);
       const double mag = std::max({std::abs(A.x), std::abs(A.y), std::abs(B.x), std::abs(B.y)});
       // Search along constrained edges whose far vertex advances toward B and lies on
@@ -477,7 +486,7 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
       // not one greedy path: two input segments from one point may be nearly collinear
       // (a grid scaled by 0.1), so both chains are within rounding of both lines and
       // either may lead on; every edge met this way lies on the segment and is marked.
-      const double kb = key(B);
+      const Key kb = key(B);
       stack.clear();
       dead_ends.clear();
       stack.push_back(va);
@@ -487,14 +496,14 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
       while (!stack.empty()) {
         const VertId cur = stack.back();
         stack.pop_back();
-        const double kc = key(V[cur]);
+        const Key kc = key(V[cur]);
         if (kc > key(V[furthest])) furthest = cur;
         bool onward = false;
         for (std::int32_t j = cs[cur]; j < cs[cur + 1]; ++j) {
           const VertId n = cadj[j];
           if (n != vb) {
             const Vec2& P = V[n];
-            const double kp = key(P);
+            const Key kp = key(P);
             if (!(kp > kc && kp < kb)) continue;
             const double o = orient(A, B, P);
             if (o != 0) {

@@ -151,6 +151,25 @@ TEST_CASE("check follows a segment through exactly collinear and rounded Steiner
   }
 }
 
+TEST_CASE("check follows a chain through a vertex 1 ulp from an input point", "[check]") {
+  // Segment 1 from B (1.5,0) to A (1,1) ends with a rounded Steiner vertex X = (1+ulp, 1):
+  // X has A's coordinate on the dominant (y) axis of the segment, so only the minor axis
+  // tells that the chain advances from X to A (the mesher makes such vertices when it
+  // splits a near-crossing at an input point: gen::random_segments(192)).
+  const double u = std::nextafter(1.0, 2.0);
+  Pslg in;
+  in.points = {{0, 0}, {1.5, 0}, {1, 1}};
+  in.segments = {{0, 1, 1}, {1, 2, 1}, {2, 0, 1}};
+  Mesh m;
+  m.vertices = {{0, 0}, {1.5, 0}, {u, 1}, {1, 1}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.boundary_edges = {{0, 1, 1}, {1, 2, 1}, {2, 3, 1}, {3, 0, 1}};
+  m.input_vertex = {0, 1, 3};
+  const CheckReport r = check(m, in);
+  INFO(all(r));
+  CHECK(r.ok());
+}
+
 TEST_CASE("check accepts segments removed with the exterior", "[check]") {
   // The square plus a dangling segment 4 from corner 1 (2,0) out to (3,-1): the mesher
   // removes it with the exterior, and input point 4 (outside) has no vertex. The chain
