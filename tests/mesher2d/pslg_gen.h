@@ -19,6 +19,7 @@
 //   nested_squares      square in square in square, region seeds with attributes
 //   small_angles        segments meeting at 1-10 degrees, thin wedges, slivers
 //   random_segments     grid-snapped segments, non-crossing by exact orient tests
+//   triangulation_edges random subsets of the edges of a jittered-grid triangulation
 // and the special inputs of the error-path tests: crossing_pair, segment_through_vertex,
 // open_boundary.
 #pragma once
@@ -563,6 +564,43 @@ inline Case random_segments(std::uint64_t seed) {
   return k;
 }
 
+// Random subset of the edges of a triangulation: a g x h grid (4..14) with every point
+// jittered by up to 0.15 (cells stay convex) and each cell cut by a random diagonal. Its
+// boundary edges are all kept (the domain), interior edges with probability p in
+// [0.1, 0.8]. Edges of one triangulation never cross, and the coordinates are in general
+// position, so segments meet at vertices from every direction.
+inline Case triangulation_edges(std::uint64_t seed) {
+  Rng rng(seed);
+  Case k;
+  k.name = detail::name("triangulation_edges", seed);
+  k.has_segments = true;
+  const int gx = rng.integer(4, 14), gy = rng.integer(4, 14);
+  const double p = rng.uniform(0.1, 0.8);
+  auto id = [&](int i, int j) { return static_cast<VertId>(j * (gx + 1) + i); };
+  for (int j = 0; j <= gy; ++j)
+    for (int i = 0; i <= gx; ++i) {
+      // Boundary points stay on the boundary lines so that the domain is a rectangle.
+      const double dx = (i == 0 || i == gx) ? 0.0 : rng.uniform(-0.15, 0.15);
+      const double dy = (j == 0 || j == gy) ? 0.0 : rng.uniform(-0.15, 0.15);
+      k.pslg.points.push_back({i + dx, j + dy});
+    }
+  auto edge = [&](VertId a, VertId b, bool boundary) {
+    if (boundary || rng.uniform() < p) k.pslg.segments.push_back({a, b, boundary ? 1 : 2});
+  };
+  for (int j = 0; j <= gy; ++j)
+    for (int i = 0; i < gx; ++i) edge(id(i, j), id(i + 1, j), j == 0 || j == gy);
+  for (int j = 0; j < gy; ++j)
+    for (int i = 0; i <= gx; ++i) edge(id(i, j), id(i, j + 1), i == 0 || i == gx);
+  for (int j = 0; j < gy; ++j)
+    for (int i = 0; i < gx; ++i) {
+      if (rng.chance(0.5)) edge(id(i, j), id(i + 1, j + 1), false);
+      else edge(id(i + 1, j), id(i, j + 1), false);
+    }
+  k.h = rng.uniform(0.15, 0.5);
+  detail::Similarity::random(rng).apply(k);
+  return k;
+}
+
 // ---------------------------------------------------------------------------------------
 // Inputs of the error paths.
 
@@ -652,6 +690,7 @@ inline const std::vector<Family>& families() {
       {"duplicate_points", duplicate_points, true}, {"star_with_holes", star_with_holes, false},
       {"comb_with_holes", comb_with_holes, false}, {"nested_squares", nested_squares, false},
       {"small_angles", small_angles, false},       {"random_segments", random_segments, false},
+      {"triangulation_edges", triangulation_edges, false},
   };
   return f;
 }
