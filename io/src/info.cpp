@@ -40,6 +40,7 @@ std::string info_json(const geom::Model& m, const geom::ModelStats& s, const Rea
   for (std::size_t f = 0; f < m.faces.size(); ++f)
     if (!m.faces[f].valid) inv.push_back({{"face", f}, {"reason", m.faces[f].invalid_reason}});
   j["invalid_faces"] = inv;
+  j["validity_checked"] = r.validity_checked;
   json steps = json::array();
   for (const HealStep& h : r.healing)
     steps.push_back({{"name", h.name},
@@ -78,7 +79,10 @@ std::string info_text(const geom::Model& m, const geom::ModelStats& s, const Rea
   if (!m.bbox.empty())
     os << "  bbox [" << m.bbox.lo.x << ", " << m.bbox.lo.y << ", " << m.bbox.lo.z << "] - [" << m.bbox.hi.x << ", "
        << m.bbox.hi.y << ", " << m.bbox.hi.z << "], diagonal " << m.bbox.diagonal() << "\n";
-  os << "  OCC validity: " << (s.faces - s.invalid_faces) << " of " << s.faces << " faces valid\n";
+  if (r.validity_checked)
+    os << "  OCC validity: " << (s.faces - s.invalid_faces) << " of " << s.faces << " faces valid\n";
+  else
+    os << "  OCC validity: not checked (--no-check)\n";
   for (std::size_t f = 0; f < m.faces.size(); ++f)
     if (!m.faces[f].valid) os << "    face " << f << ": " << m.faces[f].invalid_reason << "\n";
   if (s.vertex_gaps > 0)

@@ -302,6 +302,7 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     const auto tb = Clock::now();
     geom::OccModelOptions mo;
     mo.check_validity = opt.check_validity;
+    res.report.validity_checked = opt.check_validity;
     res.model = geom::model_from_occ(shape, mo);
     res.report.build_seconds = seconds_since(tb);
   } catch (const Standard_Failure& f) {

@@ -21,6 +21,7 @@ struct ReadFlags {
   bool conform = false;
   bool any_extension = false;
   bool partial = false;
+  bool no_check = false;
   double sew_rel_tol = 1e-6;
 };
 
@@ -31,6 +32,7 @@ void add_read_flags(CLI::App* cmd, ReadFlags& f) {
   cmd->add_flag("--conform", f.conform,
                 "make an assembly conforming: touching solids are imprinted (general fuse)");
   cmd->add_flag("--any-extension", f.any_extension, "read by content when the extension disagrees");
+  cmd->add_flag("--no-check", f.no_check, "skip OCC's per-face validity check (BRepCheck), the slowest part of a load");
   cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");
   cmd->add_option("--sew-tol", f.sew_rel_tol, "sewing tolerance relative to the bounding-box diagonal")
       ->check(CLI::PositiveNumber);
@@ -43,6 +45,7 @@ uvmesh::io::ReadOptions read_options(const ReadFlags& f) {
   o.trust_content = f.any_extension;
   o.sew_rel_tol = f.sew_rel_tol;
   o.allow_partial = f.partial;
+  o.check_validity = !f.no_check;
   return o;
 }
 

@@ -117,7 +117,7 @@ TEST_CASE("induced metric gives the true 3D length of small (u,v) steps", "[para
   }
 }
 
-TEST_CASE("induced metric at a pole is finite, SPD and capped; periodic across a seam", "[param][induced]") {
+TEST_CASE("induced metric at a pole is finite, SPD and capped, and periodic across a seam", "[param][induced]") {
   auto s = geom::make_sphere(geom::Frame{}, 1.0);
   param::SizeSpec spec;
   spec.hmax = 0.1;

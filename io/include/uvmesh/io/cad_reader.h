@@ -66,6 +66,7 @@ struct ReadReport {
   std::string file_units;  ///< unit named by the file ("" for BREP, which has none)
   std::vector<HealStep> healing;
   std::vector<std::string> warnings;
+  bool validity_checked = false;  ///< geom::Face::valid comes from BRepCheck
   double read_seconds = 0.0;   ///< parse + transfer
   double heal_seconds = 0.0;
   double build_seconds = 0.0;  ///< geom::Model construction (incl. validity checks)

@@ -9,7 +9,8 @@
 // JSON keys: file, format, units, file_units, counts{solids,shells,faces,edges,vertices},
 // surface_kinds{planar:n,...}, curve_kinds{line:n,...}, seam_edges, faces_with_seams,
 // degenerate_edges, free_edges, non_manifold_edges, short_edges, short_edge_threshold,
-// min_edge_length, open_shells, vertex_gaps, bbox{min,max,diagonal}, invalid_faces[{face,
+// min_edge_length, open_shells, vertex_gaps, bbox{min,max,diagonal}, validity_checked,
+// invalid_faces[{face,
 // reason}], healing{enabled, steps[{name,applied,detail,faces_before,...}]}, warnings[],
 // timing{read,heal,build}.
 #pragma once
