@@ -222,9 +222,16 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
         const TopoDS_Shape fixed = fix.Shape();
         const Counts c1 = count(fixed);
         HealStep h = make_step("shapefix", c0, c1);
-        h.applied = fix.Status(ShapeExtend_DONE) && !fixed.IsNull();
-        h.detail = h.applied ? "ShapeFix_Shape modified the shape: " + counts_text(h)
-                             : "ShapeFix_Shape found nothing to fix";
+        const bool changed = fix.Status(ShapeExtend_DONE) && !fixed.IsNull();
+        // Healing must not drop anything (DESIGN: nothing is dropped silently): a fix that
+        // loses faces or solids (ShapeFix can discard a solid whose shell it deems open)
+        // is reported and not kept.
+        const bool loses = c1.faces < c0.faces || c1.solids < c0.solids;
+        h.applied = changed && !loses;
+        h.detail = !changed ? "ShapeFix_Shape found nothing to fix"
+                   : loses  ? "ShapeFix_Shape result not kept, it would lose entities: " + counts_text(h)
+                            : "ShapeFix_Shape modified the shape: " + counts_text(h);
+        if (changed && loses) res.report.warnings.push_back(h.detail);
         if (h.applied) {
           shape = fixed;
           c0 = c1;
@@ -244,11 +251,14 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
         if (!sewn.IsNull()) {
           const Counts c1 = count(sewn);
           h = make_step("sewing", c0, c1);
-          // Keep the result only when it closed gaps without losing faces.
-          h.applied = c1.free_edges < c0.free_edges && c1.faces >= c0.faces;
+          // Keep the result only when it closed gaps without losing faces or solids
+          // (sewing returns shells: solids of the input would be dissolved).
+          const bool closed = c1.free_edges < c0.free_edges;
+          const bool loses = c1.faces < c0.faces || c1.solids < c0.solids;
+          h.applied = closed && !loses;
           std::ostringstream os;
           os << "BRepBuilderAPI_Sewing, tolerance " << tol << ": " << counts_text(h)
-             << (h.applied ? "" : " (not kept: no free edge closed)");
+             << (h.applied ? "" : loses ? " (not kept: it would lose faces or solids)" : " (not kept: no free edge closed)");
           h.detail = os.str();
           if (h.applied) {
             shape = sewn;
