@@ -32,6 +32,13 @@ constexpr double kFilterDist = 0.74;
 constexpr int kMaxWaves = 200;
 // Coordinates beyond this magnitude could overflow the exact predicates' products.
 constexpr double kMaxCoord = 1e100;
+// Relocation (§7.3.6): vertices whose ball is already this good (1/Q) are left alone; a
+// move is taken when the ball's worst quality stays above kSmoothAccept times the old
+// one. Accepting a slight loss lets the smoothing escape the local optimum where each
+// single move only trades one triangle against another (measured on the square with a
+// hole at h = 0.01: triangles with Q > 1.3 drop from 330 to 130 against strict gain).
+constexpr double kSmoothSkip = 0.97;
+constexpr double kSmoothAccept = 0.95;
 
 std::string fmt_pt(Vec2 p) {
   char buf[96];
@@ -781,9 +788,12 @@ class Mesher {
         tri_at(k, pv, q);
         qmin_old = std::min(qmin_old, q);
       }
-      if (qmin_old > 0.97) continue;  // already near-equilateral everywhere
+      if (qmin_old > kSmoothSkip) continue;  // already near-equilateral everywhere
       // Ideal point of each ball triangle: the apex of the equilateral (in the metric)
-      // triangle on the opposite edge; the target is their mean (§7.4.3 "optimal point").
+      // triangle on the opposite edge (§7.4.3 "optimal point"). Over a closed ring their
+      // mean is the centroid of the ring (the rotated edge vectors sum to zero), i.e.
+      // Laplacian smoothing in the metric frame of v. (Area-weighted circumcentres, the
+      // ODT rule, measured worse here: Q_M 1.59 against 1.50 on the square with a hole.)
       Vec2 target{0, 0};
       const Vec2 fv = iso_uniform_ ? pv : f(pv);
       for (std::size_t k = 0; k < n; ++k) {
@@ -807,7 +817,7 @@ class Mesher {
           valid = tri_at(k, q, qq);
           qmin_new = std::min(qmin_new, qq);
         }
-        if (valid && qmin_new > qmin_old * (1 + 1e-9)) {
+        if (valid && qmin_new > qmin_old * kSmoothAccept) {
           tri_.pts[v] = q;
           if (!iso_uniform_) vm_[v] = metric(q.x, q.y);
           ++moved;

@@ -84,7 +84,7 @@ struct Options {
   bool split_crossing_segments = false; // false: crossing segments are an error naming both
   bool triangulate_hull_without_segments = true;  // no segments: mesh the convex hull
   bool optimize = true;
-  int optimize_passes = 12;
+  int optimize_passes = 8;
   bool anisotropic_kernel = true;       // §7.6.1 cavity criterion under M(P) when kind==Metric
   double max_anisotropy = 1e6;          // cap on the ratio of metric eigenvalues' square roots
   std::int64_t max_vertices = 200'000'000;  // refinement stops (status Incomplete) beyond this

@@ -3,6 +3,13 @@
 // whatever the input doubles, so collinear, cocircular, duplicate and nearly coincident
 // points never give an inconsistent answer (reference chapter §7.1.4, practical issues).
 //
+// Guarantees (details and proofs in src/predicates.cpp): the sign is exact for every
+// finite input, from subnormals to 1e308 and any mix of magnitudes; non-finite inputs
+// give an unspecified result. The returned magnitude is approximate (no worse than plain
+// double evaluation). No global state: safe to call from any number of threads. Cost:
+// a few dozen flops when the floating-point filter decides (almost always); only
+// nearly degenerate inputs pay for the exact stages.
+//
 // Usage:
 //   double o = uvmesh::m2d::pred::orient2d(a, b, c);   // > 0: a, b, c counter-clockwise
 //   double i = uvmesh::m2d::pred::incircle(a, b, c, d); // > 0: d inside circle(a, b, c), abc CCW
