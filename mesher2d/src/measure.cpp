@@ -14,30 +14,32 @@ constexpr double kAlpha = 0.28867513459481287;  // sqrt(3)/6: Q = 1 for the equi
 constexpr double kPi = 3.14159265358979323846;
 
 struct Shape {
-  double q;        // Q_K
-  double amin, amax;  // angles in degrees
+  double q;           // Q_K
+  double cmin, cmax;  // cosines of the largest and the smallest angle
 };
 
+// Shape of abc with square roots only (no hypot, no acos: the extreme angles of a mesh
+// are taken from the extreme cosines once at the end).
 Shape shape(Vec2 a, Vec2 b, Vec2 c) {
-  const double ab = std::hypot(b.x - a.x, b.y - a.y);
-  const double bc = std::hypot(c.x - b.x, c.y - b.y);
-  const double ca = std::hypot(a.x - c.x, a.y - c.y);
-  const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - b.x, vy = c.y - b.y, wx = a.x - c.x,
+               wy = a.y - c.y;
+  const double ab2 = ux * ux + uy * uy, bc2 = vx * vx + vy * vy, ca2 = wx * wx + wy * wy;
+  const double ab = std::sqrt(ab2), bc = std::sqrt(bc2), ca = std::sqrt(ca2);
+  const double area2 = ux * (c.y - a.y) - uy * (c.x - a.x);
+  if (!(area2 > 0)) return {std::numeric_limits<double>::infinity(), -1, 1};
+  // rho = 2 * area / perimeter = area2 / (ab + bc + ca)
   const double hmax = std::max({ab, bc, ca});
   Shape s;
-  if (!(area2 > 0)) return {std::numeric_limits<double>::infinity(), 0, 180};
-  // rho = 2 * area / perimeter = area2 / (ab + bc + ca)
   s.q = kAlpha * hmax * (ab + bc + ca) / area2;
-  auto ang = [](double o1, double o2, double opp) {
-    double cs = (o1 * o1 + o2 * o2 - opp * opp) / (2 * o1 * o2);
-    cs = std::clamp(cs, -1.0, 1.0);
-    return std::acos(cs) * 180.0 / kPi;
-  };
-  const double A = ang(ab, ca, bc), B = ang(ab, bc, ca), C = 180.0 - A - B;
-  s.amin = std::min({A, B, C});
-  s.amax = std::max({A, B, C});
+  // cos at a = -(u.w)/(|u||w|), at b = -(u.v)/(|u||v|), at c = -(v.w)/(|v||w|)
+  const double ca_ = -(ux * wx + uy * wy) / (ab * ca);
+  const double cb_ = -(ux * vx + uy * vy) / (ab * bc);
+  const double cc_ = -(vx * wx + vy * wy) / (bc * ca);
+  s.cmin = std::min({ca_, cb_, cc_});
+  s.cmax = std::max({ca_, cb_, cc_});
   return s;
 }
+double deg(double cosine) { return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / kPi; }
 }  // namespace
 
 double triangle_quality(Vec2 a, Vec2 b, Vec2 c, const Metric2& m) {
@@ -58,8 +60,7 @@ Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<
   }
   double qsum = 0, mqsum = 0;
   std::int64_t n15 = 0, n2 = 0, mn15 = 0, mn2 = 0;
-  out.min_angle_deg = 180;
-  out.metric_min_angle_deg = 180;
+  double cmax = -1, cmin = 1, mcmax = -1, mcmin = 1;
   for (const auto& t : tris) {
     const Vec2 a = vertices[t[0]], b = vertices[t[1]], c = vertices[t[2]];
     const Shape s = shape(a, b, c);
@@ -67,8 +68,8 @@ Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<
     qsum += s.q;
     n15 += s.q < 1.5;
     n2 += s.q < 2;
-    out.min_angle_deg = std::min(out.min_angle_deg, s.amin);
-    out.max_angle_deg = std::max(out.max_angle_deg, s.amax);
+    cmax = std::max(cmax, s.cmax);
+    cmin = std::min(cmin, s.cmin);
     if (has_metric) {
       // Shape in the metric: the mean of the vertex metrics (a convex combination of SPD
       // tensors is SPD) stands for the metric over K.
@@ -79,11 +80,15 @@ Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<
       mqsum += ms.q;
       mn15 += ms.q < 1.5;
       mn2 += ms.q < 2;
-      out.metric_min_angle_deg = std::min(out.metric_min_angle_deg, ms.amin);
-      out.metric_max_angle_deg = std::max(out.metric_max_angle_deg, ms.amax);
+      mcmax = std::max(mcmax, ms.cmax);
+      mcmin = std::min(mcmin, ms.cmin);
     }
   }
   const double nt = static_cast<double>(tris.size());
+  out.min_angle_deg = deg(cmax);
+  out.max_angle_deg = deg(cmin);
+  out.metric_min_angle_deg = deg(mcmax);
+  out.metric_max_angle_deg = deg(mcmin);
   out.q_mean = qsum / nt;
   out.share_q_below_1_5 = n15 / nt;
   out.share_q_below_2 = n2 / nt;
