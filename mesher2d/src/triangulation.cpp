@@ -55,14 +55,18 @@ TriId Triangulation::new_tri() {
     return t;
   }
   TriId t = num_tris();
-  tv.resize(tv.size() + 3, kNone);
-  opp.resize(opp.size() + 3, kNone);
-  seg.resize(seg.size() + 3, kNone);
+  for (int i = 0; i < 3; ++i) {
+    tv.push_back(kNone);
+    opp.push_back(kNone);
+    seg.push_back(kNone);
+  }
   tag.push_back(0);
   return t;
 }
 
-TriId Triangulation::locate(Vec2 p, TriId hint) const {
+TriId Triangulation::locate(Vec2 p, TriId hint) const { return locate(p, hint, nullptr); }
+
+TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
   TriId t = hint;
   if (t == kNone || t >= num_tris() || dead(t)) {
     t = kNone;
@@ -82,11 +86,13 @@ TriId Triangulation::locate(Vec2 p, TriId hint) const {
     rng_ ^= rng_ << 17;
     const int r = static_cast<int>(rng_ % 3);
     bool moved = false;
+    double o[3];
     for (int k = 0; k < 3; ++k) {
       const int i = (r + k) % 3;
       const Vec2& a = pts[tv[3 * t + next3(i)]];
       const Vec2& b = pts[tv[3 * t + prev3(i)]];
-      if (orient(a, b, p) < 0) {
+      o[i] = orient(a, b, p);
+      if (o[i] < 0) {
         const std::int32_t h = opp[3 * t + i];
         if (h == kNone) return kNone;  // outside the box
         t = h / 3;
@@ -94,7 +100,10 @@ TriId Triangulation::locate(Vec2 p, TriId hint) const {
         break;
       }
     }
-    if (!moved) return t;
+    if (!moved) {
+      if (orients) orients[0] = o[0], orients[1] = o[1], orients[2] = o[2];
+      return t;
+    }
   }
   // Fallback (never seen): exhaustive search.
   for (TriId s = 0; s < num_tris(); ++s) {
@@ -102,7 +111,11 @@ TriId Triangulation::locate(Vec2 p, TriId hint) const {
     bool in = true;
     for (int i = 0; i < 3 && in; ++i)
       in = orient(pts[tv[3 * s + next3(i)]], pts[tv[3 * s + prev3(i)]], p) >= 0;
-    if (in) return s;
+    if (in) {
+      if (orients)
+        for (int i = 0; i < 3; ++i) orients[i] = orient(pts[tv[3 * s + next3(i)]], pts[tv[3 * s + prev3(i)]], p);
+      return s;
+    }
   }
   return kNone;
 }
@@ -139,7 +152,8 @@ InsertResult Triangulation::insert_point(Vec2 p, TriId hint, const InsertParams&
 
 InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm) {
   const Vec2 p = pts[v];
-  const TriId t0 = locate(p, hint);
+  double o0[3];
+  const TriId t0 = locate(p, hint, o0);
   if (t0 == kNone) return {InsertStatus::Outside, kNone};
 
   if (mark_.size() < static_cast<std::size_t>(num_tris()) + 8) mark_.resize(2 * num_tris() + 8, 0);
@@ -156,8 +170,8 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
   // The base (§7.3.2 step 1): the triangle containing P, plus its neighbour when P lies on
   // an edge. A point on a vertex is a duplicate.
   for (int i = 0; i < 3; ++i) {
+    if (o0[i] != 0) continue;
     const VertId a = tv[3 * t0 + next3(i)], b = tv[3 * t0 + prev3(i)];
-    if (orient(pts[a], pts[b], p) != 0) continue;
     if (pts[a].x == p.x && pts[a].y == p.y) return {InsertStatus::Duplicate, a};
     if (pts[b].x == p.x && pts[b].y == p.y) return {InsertStatus::Duplicate, b};
     const std::int32_t h = opp[3 * t0 + i];
@@ -186,7 +200,18 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
       const TriId n = h / 3;
       const std::uint32_t mk = mark_[n];
       if (mk == IN) continue;
-      if (mk != OUT && in_cavity(n, p, prm)) {
+      bool in = false;
+      if (mk != OUT) {
+        if (prm.use_metric) {
+          in = in_cavity(n, p, prm);
+        } else {
+          const Vec2& ka = pts[tv[3 * n]];
+          const Vec2& kb = pts[tv[3 * n + 1]];
+          const Vec2& kc = pts[tv[3 * n + 2]];
+          in = pred::incircle(&ka.x, &kb.x, &kc.x, &p.x) > 0;
+        }
+      }
+      if (in) {
         mark_[n] = IN;
         cav_.push_back(n);
       } else {

@@ -58,6 +58,8 @@ class Triangulation {
 
   // Locate: a triangle containing p (closed), walking from hint. kNone if outside the box.
   TriId locate(Vec2 p, TriId hint) const;
+  // Same, and the orientations of p against the edges of the triangle found (edge i).
+  TriId locate(Vec2 p, TriId hint, double* orients) const;
 
   // Boundary enforcement (§7.2.2) of segment (a, b) with id sid. Returns false and fills
   // crossing_seg (the constrained edge's segment id) when a constrained edge is crossed.
