@@ -178,7 +178,9 @@ UVMESH_PRED_INLINE void two_sum(double a, double b, double& x, double& y) {
 }
 
 // x = fl(a - b), y = (a - b) - x exactly.
-UVMESH_PRED_INLINE void two_diff(double a, double b, double& x, double& y) { two_sum(a, -b, x, y); }
+UVMESH_PRED_INLINE void two_diff(double a, double b, double& x, double& y) {
+  two_sum(a, -b, x, y);
+}
 
 // x = fl(a * b), y = a*b - x exactly (needs no underflow of the error term and, without
 // FMA, |a|, |b| < 2^996 for the split).
@@ -484,7 +486,7 @@ void wide_set(double x, int e0, Wide<Cap>& r) {
   int k = 0;
   const double f = std::frexp(std::fabs(x), &k);
   const auto m = static_cast<std::uint64_t>(std::ldexp(f, 53));  // exact, < 2^53
-  const int shift = k - 53 - e0;                                    // >= 0
+  const int shift = k - 53 - e0;                                 // >= 0
   const int words = shift / 32;
   const int bits = shift % 32;
   const std::uint64_t low = m << bits;
@@ -603,9 +605,9 @@ int smallest_lsb_exponent(const double* v, int n) {
   return e0;
 }
 
-using WideLin = Wide<68>;    // coordinates and differences
-using WideQuad = Wide<136>;  // degree 2
-using WideQuart = Wide<272>; // degree 4
+using WideLin = Wide<68>;     // coordinates and differences
+using WideQuad = Wide<136>;   // degree 2
+using WideQuart = Wide<272>;  // degree 4
 
 UVMESH_PRED_COLD double orient2d_wide(const double* p) {
   const int e0 = smallest_lsb_exponent(p, 6);
@@ -736,9 +738,8 @@ int lifted_term(const double* dx, int ndx, const double* dy, int ndy, const doub
 }
 
 // (x1 y2 - x2 y1) with two-component factors: at most 16 components.
-int cross_exact(const double* x1, int nx1, const double* y2, int ny2, const double* x2,
-                int nx2, const double* y1, int ny1, double* out, double* acc,
-                double* part) {
+int cross_exact(const double* x1, int nx1, const double* y2, int ny2, const double* x2, int nx2,
+                const double* y1, int ny1, double* out, double* acc, double* part) {
   double u[8], v[8];
   const int nu = mul(nx1, x1, ny2, y2, u, acc, part);
   const int nv = mul(nx2, x2, ny1, y1, v, acc, part);
@@ -814,8 +815,7 @@ double incircle_stages(const double* p) {
   const int nabd = sum(na, adet, nb, bdet, abdet);
   const int nfin = sum(nabd, abdet, nc, cdet, fin);
 
-  if (adxt == 0.0 && adyt == 0.0 && bdxt == 0.0 && bdyt == 0.0 && cdxt == 0.0 &&
-      cdyt == 0.0) {
+  if (adxt == 0.0 && adyt == 0.0 && bdxt == 0.0 && bdyt == 0.0 && cdxt == 0.0 && cdyt == 0.0) {
     return approx(nfin, fin);
   }
 
