@@ -370,6 +370,13 @@ class Mesher {
       split_params(es, n, [&](double t) {
         if (!ok) return;
         const Vec2 p{a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)};
+        // A split point is rounded off the segment's line; next to a nearly collinear
+        // constrained neighbour it could land on the far side. Such a point is skipped
+        // (the piece gets longer) rather than making a crossing.
+        if (!tri_.segment_clear(chain.back(), p) || !tri_.segment_clear(s.b, p)) {
+          ++res_.stats.boundary_points_skipped;
+          return;
+        }
         const auto r = tri_.insert_point(p, tri_.vtri[chain.back()], prm);
         if (r.status == InsertStatus::Inserted) {
           fixed_.push_back(1);
@@ -382,14 +389,13 @@ class Mesher {
         }
       });
       chain.push_back(s.b);
-      for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+      // Enforce the pieces now, so that the next segments' split points see them.
+      work.clear();
+      for (std::size_t k = chain.size() - 1; k-- > 0;)
         if (chain[k] != chain[k + 1]) work.push_back(add_seg({chain[k], chain[k + 1], s.marker, s.input}));
+      if (!enforce_work(work, /*split_crossings=*/true)) return false;
     }
-    std::reverse(work.begin(), work.end());
-    // The input segments were enforced without crossing above; a crossing now can only
-    // come from split points rounded to the other side of a nearly collinear neighbour
-    // segment. Splitting there (a vertex within rounding of both) is the faithful answer.
-    return enforce_work(work, /*split_crossings=*/true);
+    return true;
   }
 
   Vec2 point(VertId i) const { return in_.points[i]; }

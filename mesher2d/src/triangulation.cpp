@@ -362,6 +362,54 @@ bool Triangulation::star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, st
   return false;
 }
 
+bool Triangulation::segment_clear(VertId a, Vec2 p) const {
+  // Walk from vertex a toward point p (as the enforcement walk does) and report whether
+  // the open segment crosses a constrained edge or passes through a vertex before it
+  // reaches the triangle holding p.
+  const Vec2 pa = pts[a];
+  TriId t = vtri[a];
+  if (t == kNone) return false;
+  const TriId tstart = t;
+  VertId u = kNone, w = kNone;
+  for (int guard = 0;; ++guard) {
+    int k = 0;
+    while (tv[3 * t + k] != a) ++k;
+    const VertId x = tv[3 * t + next3(k)], y = tv[3 * t + prev3(k)];
+    const double ox = orient(pa, p, pts[x]), oy = orient(pa, p, pts[y]);
+    if (ox < 0 && oy > 0) {
+      u = x;
+      w = y;
+      break;
+    }
+    if ((ox == 0 && (pts[x].x - pa.x) * (p.x - pa.x) + (pts[x].y - pa.y) * (p.y - pa.y) > 0) ||
+        (oy == 0 && (pts[y].x - pa.x) * (p.x - pa.x) + (pts[y].y - pa.y) * (p.y - pa.y) > 0))
+      return false;  // along an edge from a: p is on it or beyond a vertex
+    const std::int32_t g = opp[3 * t + prev3(k)];
+    if (g == kNone || guard > (1 << 20)) return false;
+    t = g / 3;
+    if (t == tstart) return false;
+  }
+  for (int guard = 0; guard < (1 << 24); ++guard) {
+    // p inside (or on the far edge of) the current triangle: done.
+    if (orient(pts[u], pts[w], p) >= 0) return orient(pts[u], pts[w], p) > 0;
+    int e = 0;
+    while (!(tv[3 * t + next3(e)] == u && tv[3 * t + prev3(e)] == w)) ++e;
+    const std::int32_t h = 3 * t + e;
+    if (seg[h] != kNone) return false;
+    const std::int32_t g = opp[h];
+    if (g == kNone) return false;
+    const VertId x = tv[g];
+    t = g / 3;
+    const double ox = orient(pa, p, pts[x]);
+    if (ox == 0) return false;
+    if (ox < 0)
+      u = x;
+    else
+      w = x;
+  }
+  return false;
+}
+
 std::int32_t Triangulation::find_half_edge(VertId a, VertId b) const {
   const TriId t0 = vtri[a];
   if (t0 == kNone) return kNone;

@@ -74,6 +74,9 @@ class Triangulation {
   EnforceResult enforce(VertId a, VertId b, std::int32_t sid);
   // Removes the constraint of edge (a, b) (both sides). Returns false if there is no such edge.
   bool unconstrain(VertId a, VertId b);
+  // True when the open segment from vertex a to point p crosses no constrained edge and
+  // meets no vertex, and p lies strictly inside a triangle reached that way.
+  bool segment_clear(VertId a, Vec2 p) const;
 
   // Half-edge from a to b (a triangle containing the directed edge a -> b), or kNone.
   std::int32_t find_half_edge(VertId a, VertId b) const;

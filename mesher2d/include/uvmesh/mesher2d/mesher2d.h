@@ -134,6 +134,7 @@ struct Stats {
   std::int64_t duplicates_merged = 0;
   std::int64_t segments_split_at_vertices = 0;
   std::int64_t crossings_split = 0;
+  std::int64_t boundary_points_skipped = 0;  // split points that would cross a neighbour
   std::int64_t field_points_inserted = 0;
   std::int64_t field_points_rejected = 0;
   int saturation_waves = 0;
