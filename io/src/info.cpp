@@ -13,8 +13,19 @@ std::string info_json(const geom::Model& m, const geom::ModelStats& s, const Rea
   json j;
   j["file"] = m.source;
   j["format"] = m.format;
-  j["units"] = m.units;
+  // Units of the coordinates (and of every length below): the file's unit unless another
+  // was requested; BREP files have none ("unitless", factors null).
+  j["units"] = m.units.empty() ? "unitless" : m.units;
+  if (r.mm_per_unit > 0.0) {
+    j["unit_in_mm"] = r.mm_per_unit;
+    j["unit_in_m"] = r.mm_per_unit / 1000.0;
+  } else {
+    j["unit_in_mm"] = nullptr;
+    j["unit_in_m"] = nullptr;
+  }
   j["file_units"] = r.file_units;
+  j["file_units_declared"] = r.file_units_declared;
+  j["units_converted"] = r.units_converted;
   j["counts"] = {{"solids", s.solids}, {"shells", s.shells}, {"faces", s.faces}, {"edges", s.edges},
                  {"vertices", s.vertices}};
   j["surface_kinds"] = s.surface_kinds;
@@ -63,9 +74,22 @@ std::string info_json(const geom::Model& m, const geom::ModelStats& s, const Rea
 
 std::string info_text(const geom::Model& m, const geom::ModelStats& s, const ReadReport& r, bool heal_enabled) {
   std::ostringstream os;
-  os << m.source << "  (" << m.format << ", units: " << (m.units.empty() ? "none given" : m.units);
-  if (!r.file_units.empty()) os << ", file unit: " << r.file_units;
-  os << ")\n";
+  os << m.source << "  (" << m.format << ")\n";
+  os << "  units: ";
+  if (m.units.empty()) {
+    os << "unitless (" << (m.format == "brep" ? "BREP files carry no length unit" : "none declared") << ")\n";
+  } else {
+    os << m.units << " (1 " << m.units << " = ";
+    if (m.units != "mm") os << r.mm_per_unit << " mm = ";
+    os << r.mm_per_unit / 1000.0 << " m)";
+    if (r.units_converted)
+      os << ", converted from the file's " << (r.file_units.empty() ? r.file_units_declared : r.file_units);
+    else
+      os << ", as declared by the file";
+    if (!r.file_units_declared.empty() && r.file_units_declared != m.units)
+      os << " ('" << r.file_units_declared << "')";
+    os << "\n";
+  }
   os << "  solids " << s.solids << ", shells " << s.shells << " (" << s.open_shells << " open), faces " << s.faces
      << ", edges " << s.edges << ", vertices " << s.vertices << "\n";
   os << "  surfaces:";
@@ -78,7 +102,8 @@ std::string info_text(const geom::Model& m, const geom::ModelStats& s, const Rea
      << " (shortest " << s.min_edge_length << ")\n";
   if (!m.bbox.empty())
     os << "  bbox [" << m.bbox.lo.x << ", " << m.bbox.lo.y << ", " << m.bbox.lo.z << "] - [" << m.bbox.hi.x << ", "
-       << m.bbox.hi.y << ", " << m.bbox.hi.z << "], diagonal " << m.bbox.diagonal() << "\n";
+       << m.bbox.hi.y << ", " << m.bbox.hi.z << "], diagonal " << m.bbox.diagonal()
+       << (m.units.empty() ? "" : " " + m.units) << "\n";
   if (r.validity_checked)
     os << "  OCC validity: " << (s.faces - s.invalid_faces) << " of " << s.faces << " faces valid\n";
   else

@@ -13,6 +13,7 @@
 #include <IGESControl_Reader.hxx>
 #include <IGESData_GlobalSection.hxx>
 #include <IGESData_IGESModel.hxx>
+#include <Interface_Static.hxx>
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
@@ -35,10 +36,13 @@
 #include <cmath>
 #include <mutex>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "uvmesh/geom/occ.h"
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/prescan.h"
+#include "uvmesh/io/units.h"
 
 namespace uvmesh::io {
 namespace {
@@ -140,28 +144,121 @@ const char* iges_unit_name(int flag) {
   }
 }
 
-// Reads the file into a shape; sets report.format / file_units. Throws Standard_Failure or
-// returns an error message.
-std::string read_shape(const std::string& path, CadFormat fmt, TopoDS_Shape& shape, ReadReport& rep) {
+// OCC's tolerance parameters are expressed in the transfer's (system) length unit, not in
+// mm: read.maxprecision.val (largest tolerance a shape may get, default 1) and
+// read.precision.val (used when a file gives no uncertainty, default 1e-4). A transfer into
+// another unit gets them rescaled, so that a model read in inches or metres gets the same
+// tolerances as its mm reading; the defaults are restored afterwards (the statics are
+// process-wide; imports are serialised by g_occ_mutex).
+class ScopedTransferTolerances {
+ public:
+  explicit ScopedTransferTolerances(double mm_per_unit) {
+    max_ = Interface_Static::RVal("read.maxprecision.val");
+    prec_ = Interface_Static::RVal("read.precision.val");
+    if (mm_per_unit > 0.0 && mm_per_unit != 1.0) {
+      Interface_Static::SetRVal("read.maxprecision.val", max_ / mm_per_unit);
+      Interface_Static::SetRVal("read.precision.val", prec_ / mm_per_unit);
+      set_ = true;
+    }
+  }
+  ~ScopedTransferTolerances() {
+    if (!set_) return;
+    Interface_Static::SetRVal("read.maxprecision.val", max_);
+    Interface_Static::SetRVal("read.precision.val", prec_);
+  }
+  ScopedTransferTolerances(const ScopedTransferTolerances&) = delete;
+  ScopedTransferTolerances& operator=(const ScopedTransferTolerances&) = delete;
+
+ private:
+  double max_ = 1.0, prec_ = 1e-4;
+  bool set_ = false;
+};
+
+// The unit the coordinates come out in: the requested one, else the file's; a file that
+// declares no unit or one not known here is left to OCC's default conversion to mm.
+std::string target_unit(const std::string& requested, const std::string& declared, ReadReport& rep) {
+  if (!requested.empty()) return requested;
+  if (!rep.file_units.empty()) return rep.file_units;
+  rep.warnings.push_back(declared.empty()
+                             ? "the file declares no length unit: coordinates taken as mm (OCC's default)"
+                             : "the file's length unit '" + declared +
+                                   "' is not one uvmesh knows: coordinates converted to mm by OCC");
+  return "mm";
+}
+
+// Reads the file into a shape, with coordinates in `units` (set here: the requested unit,
+// else the file's); sets report.format / file_units / mm_per_unit. Throws Standard_Failure
+// or returns an error message.
+//
+// Units go through OCC's own mechanism, before the transfer: STEPControl_Reader's system
+// length unit and the IGES global section's cascade unit (both in mm) are set to the target
+// unit, so OCC converts file -> target in one factor, which is exactly 1 when the target is
+// the file's unit (the coordinates are the file's numbers; no after-the-fact gp_Trsf
+// rescaling, which would round every coordinate and leave tolerances in the wrong unit).
+// OCCT 7.6 ignores Interface_Static "xstep.cascade.unit" in these readers (checked: a STEP
+// file in cm still comes out in mm with it set to CM).
+std::string read_shape(const std::string& path, CadFormat fmt, const std::string& requested, TopoDS_Shape& shape,
+                       ReadReport& rep, std::string& units) {
   rep.format = std::string(to_string(fmt));
   if (fmt == CadFormat::Step) {
     STEPControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return "the STEP reader rejected the file";
     TColStd_SequenceOfAsciiString lu, au, su;
     reader.FileUnits(lu, au, su);
-    if (lu.Length() > 0) rep.file_units = lu.First().ToCString();
+    std::vector<std::string> names;  // distinct length units of the shape representations
+    for (int i = 1; i <= lu.Length(); ++i) {
+      const std::string n = lu(i).ToCString();
+      if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    }
+    const std::string declared = names.empty() ? "" : names.front();
+    rep.file_units_declared = declared;
+    rep.file_units = canonical_length_unit(declared);
+    if (names.size() > 1) {
+      std::string all;
+      for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+      rep.warnings.push_back("the file's shape representations use several length units (" + all +
+                             "): OCC converts all of them to the model's unit");
+    }
+    units = target_unit(requested, declared, rep);
+    rep.mm_per_unit = length_unit_mm(units);
+    rep.units_converted = !rep.file_units.empty() ? units != rep.file_units : !declared.empty();
+    reader.SetSystemLengthUnit(rep.mm_per_unit);
+    ScopedTransferTolerances tol(rep.mm_per_unit);
     reader.TransferRoots();
     shape = reader.OneShape();
   } else if (fmt == CadFormat::Iges) {
     IGESControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return "the IGES reader rejected the file";
     const Handle(IGESData_IGESModel) model = reader.IGESModel();
-    if (!model.IsNull()) rep.file_units = iges_unit_name(model->GlobalSection().UnitFlag());
+    if (model.IsNull()) return "the IGES reader produced no model";
+    IGESData_GlobalSection gs = model->GlobalSection();
+    const int flag = gs.UnitFlag();
+    const Handle(TCollection_HAsciiString) uname = gs.UnitName();
+    const std::string name = uname.IsNull() ? "" : uname->ToCString();
+    std::string declared = !name.empty() ? name : iges_unit_name(flag);
+    // Flag 3: the unit is the one named; otherwise the flag decides.
+    rep.file_units = canonical_length_unit(flag == 3 ? name : std::string(iges_unit_name(flag)));
+    rep.file_units_declared = declared + " (unit flag " + std::to_string(flag) + ")";
+    if (declared.empty()) declared = "unit flag " + std::to_string(flag);
+    units = target_unit(requested, declared, rep);
+    rep.mm_per_unit = length_unit_mm(units);
+    rep.units_converted = units != rep.file_units;
+    // OCC's factor is UnitValue() / CascadeUnit(), both in mm: for the file's own unit use
+    // OCC's UnitValue itself, so that the factor is exactly 1.
+    const bool native = units == rep.file_units && gs.UnitValue() > 0.0;
+    gs.SetCascadeUnit(native ? gs.UnitValue() : rep.mm_per_unit);
+    model->SetGlobalSection(gs);
+    ScopedTransferTolerances tol(rep.mm_per_unit);
     reader.TransferRoots();
     shape = reader.OneShape();
   } else {
     BRep_Builder b;
     if (!BRepTools::Read(shape, path.c_str(), b)) return "the BREP reader rejected the file";
+    units.clear();  // BREP files carry no unit
+    rep.mm_per_unit = 0.0;
+    if (!requested.empty())
+      rep.warnings.push_back("BREP files carry no length unit: the requested unit (" + requested +
+                             ") is ignored, coordinates are as stored");
   }
   return {};
 }
@@ -193,13 +290,22 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     res.report.warnings.push_back("extension says " + std::string(to_string(ext)) + ", read as " +
                                   std::string(to_string(pre.content)));
 
+  std::string requested_units;
+  if (!opt.units.empty()) {
+    requested_units = canonical_length_unit(opt.units);
+    if (requested_units.empty())
+      return fail("unknown length unit '" + opt.units + "' requested (known: " + known_length_units() + ")");
+  }
+
   std::lock_guard<std::mutex> lock(g_occ_mutex);
   prepare_occ(opt);
   TopoDS_Shape shape;
+  std::string units;
   std::string stage = "reading";
   try {
     OCC_CATCH_SIGNALS
-    if (std::string e = read_shape(path, pre.content, shape, res.report); !e.empty()) return fail(e);
+    if (std::string e = read_shape(path, pre.content, requested_units, shape, res.report, units); !e.empty())
+      return fail(e);
     res.report.read_seconds = seconds_since(t0);
 
     Counts c0 = shape.IsNull() ? Counts{} : count(shape);
@@ -322,9 +428,7 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
   }
   res.model.source = path;
   res.model.format = res.report.format;
-  // OCC's STEP / IGES transfer converts lengths to millimetres (its default
-  // xstep.cascade.unit); the file's own unit is in report.file_units. BREP has no unit.
-  res.model.units = pre.content == CadFormat::Brep ? "" : "mm";
+  res.model.units = units;  // the file's unit unless another was requested; "" for BREP
 
   // 4. Sanity of the result: coordinates that cannot be real.
   for (std::size_t i = 0; i < res.model.vertices.size(); ++i) {

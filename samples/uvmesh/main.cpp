@@ -1,5 +1,5 @@
 // uvmesh -- command-line front end. Subcommands:
-//   uvmesh info MODEL [--json] [--no-heal] [--conform] [--any-extension]
+//   uvmesh info MODEL [--json] [--no-heal] [--conform] [--any-extension] [--units UNIT]
 // (`uvmesh mesh` arrives with the surface stage; each subcommand is one function below.)
 //
 // Exit codes: 0 success, 2 the model could not be read (one line on stderr naming the
@@ -12,6 +12,7 @@
 #include "uvmesh/geom/model.h"
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/info.h"
+#include "uvmesh/io/units.h"
 
 namespace {
 
@@ -23,6 +24,7 @@ struct ReadFlags {
   bool partial = false;
   bool no_check = false;
   double sew_rel_tol = 1e-6;
+  std::string units;  // "" = the file's own unit
 };
 
 void add_read_flags(CLI::App* cmd, ReadFlags& f) {
@@ -36,6 +38,16 @@ void add_read_flags(CLI::App* cmd, ReadFlags& f) {
   cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");
   cmd->add_option("--sew-tol", f.sew_rel_tol, "sewing tolerance relative to the bounding-box diagonal")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--units", f.units,
+                  "convert coordinates to this length unit (" + uvmesh::io::known_length_units() +
+                      "); default: keep the unit the file declares (BREP files have none)")
+      ->check(CLI::Validator(
+          [](std::string& s) {
+            return uvmesh::io::canonical_length_unit(s).empty()
+                       ? "unknown length unit '" + s + "' (known: " + uvmesh::io::known_length_units() + ")"
+                       : std::string();
+          },
+          "UNIT"));
 }
 
 uvmesh::io::ReadOptions read_options(const ReadFlags& f) {
@@ -46,6 +58,7 @@ uvmesh::io::ReadOptions read_options(const ReadFlags& f) {
   o.sew_rel_tol = f.sew_rel_tol;
   o.allow_partial = f.partial;
   o.check_validity = !f.no_check;
+  o.units = f.units;
   return o;
 }
 

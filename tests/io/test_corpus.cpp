@@ -6,11 +6,15 @@
 //    healing step;
 //  - every file in bad/ gives its expected outcome: a clean one-line error naming the
 //    file and the defect with exit code 2, or a load with the MANIFEST counts;
-//  - a NaN coordinate (the input that crashes a plain OCC import) is rejected.
+//  - a NaN coordinate (the input that crashes a plain OCC import) is rejected;
+//  - the model keeps the file's length unit (MANIFEST's bounding boxes are in mm: compared
+//    through the reported factor), `--units` converts by exactly the declared factor.
 #include <catch2/catch.hpp>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -83,6 +87,10 @@ int note_count(const std::string& notes, const std::string& pattern) {
   return 0;
 }
 
+// Millimetres per unit of the reported coordinates; 1 for unitless BREP (MANIFEST takes
+// BREP coordinates as they are stored).
+double mm_per_unit(const json& j) { return j["unit_in_mm"].is_null() ? 1.0 : j["unit_in_mm"].get<double>(); }
+
 std::map<std::string, int> parse_kinds(const std::string& s) {
   std::map<std::string, int> k;
   std::stringstream ss(s);
@@ -110,7 +118,15 @@ TEST_CASE("corpus: uvmesh info --no-heal matches MANIFEST for every CAD model", 
     CHECK(j["counts"]["edges"] == std::stoi(r.at("n_edges")));
     CHECK(j["counts"]["solids"] == std::stoi(r.at("n_solids")));
     CHECK(j["surface_kinds"].get<std::map<std::string, int>>() == parse_kinds(r.at("kinds")));
-    CHECK(j["bbox"]["diagonal"].get<double>() == Approx(std::stod(r.at("bbox_diag"))).epsilon(1e-5));
+    // Coordinates are in the file's unit; MANIFEST's diagonal is in mm (BREP: as stored).
+    CHECK(j["bbox"]["diagonal"].get<double>() * mm_per_unit(j) == Approx(std::stod(r.at("bbox_diag"))).epsilon(1e-5));
+    if (j["format"] == "brep") {
+      CHECK(j["units"] == "unitless");
+    } else {
+      CHECK(j["units"] == j["file_units"]);  // every STEP / IGES file of the corpus declares a known unit
+      CHECK_FALSE(j["units_converted"].get<bool>());
+      CHECK(j["unit_in_m"].get<double>() == Approx(j["unit_in_mm"].get<double>() / 1000.0));
+    }
     const std::string& notes = r.at("notes");
     CHECK(j["short_edges"] == note_count(notes, "edges shorter than 1e-3"));
     CHECK(j["free_edges"] == note_count(notes, "free \\(boundary\\) edges"));
@@ -265,4 +281,122 @@ TEST_CASE("bad inputs: a NaN coordinate never reaches OCC", "[io][bad]") {
   const Run x = run("info " + path);
   CHECK(x.rc == 2);
   std::remove(path.c_str());
+}
+
+namespace {
+
+// Vertices of two readings of the same file: b == a * factor, to rounding.
+void check_scaled(const uvmesh::geom::Model& a, const uvmesh::geom::Model& b, double factor) {
+  REQUIRE(a.vertices.size() == b.vertices.size());
+  REQUIRE_FALSE(a.vertices.empty());
+  const double size = a.bbox.diagonal() * factor;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.vertices.size(); ++i) {
+    const uvmesh::geom::Vec3& p = a.vertices[i].p;
+    const uvmesh::geom::Vec3& q = b.vertices[i].p;
+    worst = std::max({worst, std::abs(p.x * factor - q.x), std::abs(p.y * factor - q.y), std::abs(p.z * factor - q.z)});
+  }
+  CHECK(worst <= 1e-12 * size);
+}
+
+}  // namespace
+
+TEST_CASE("units: a STEP file in centimetres keeps its unit; --units mm scales by exactly 10", "[io][units]") {
+  const std::string f = kData + "/cad/axom_tet.step";
+  const Run native = run("info --json --no-heal " + f);
+  const Run mm = run("info --json --no-heal --units mm " + f);
+  REQUIRE(native.rc == 0);
+  REQUIRE(mm.rc == 0);
+  const json a = json::parse(native.out), b = json::parse(mm.out);
+  CHECK(a["units"] == "cm");
+  CHECK(a["file_units"] == "cm");
+  CHECK(a["file_units_declared"] == "centimetre");
+  CHECK(a["unit_in_mm"].get<double>() == 10.0);
+  CHECK(a["unit_in_m"].get<double>() == Approx(0.01));
+  CHECK_FALSE(a["units_converted"].get<bool>());
+  CHECK(b["units"] == "mm");
+  CHECK(b["file_units"] == "cm");
+  CHECK(b["unit_in_mm"].get<double>() == 1.0);
+  CHECK(b["units_converted"].get<bool>());
+  // The tetrahedron's corners are (+-1, +-1, +-1) in the file: read as they are.
+  for (int k = 0; k < 3; ++k) {
+    CHECK(a["bbox"]["min"][k].get<double>() == Approx(-1.0).margin(1e-6));
+    CHECK(a["bbox"]["max"][k].get<double>() == Approx(1.0).margin(1e-6));
+  }
+  CHECK(b["bbox"]["diagonal"].get<double>() == Approx(10.0 * a["bbox"]["diagonal"].get<double>()).epsilon(1e-6));
+  CHECK(native.out.find("\"warnings\": []") != std::string::npos);
+
+  // Vertex by vertex through the library: the file's numbers exactly, and x 10 in mm.
+  uvmesh::io::ReadOptions o;
+  o.heal = false;
+  o.check_validity = false;
+  const uvmesh::io::ReadResult rc = uvmesh::io::read_cad(f, o);
+  o.units = "millimetre";
+  const uvmesh::io::ReadResult rm = uvmesh::io::read_cad(f, o);
+  REQUIRE(rc.ok);
+  REQUIRE(rm.ok);
+  CHECK(rc.model.units == "cm");
+  CHECK(rm.model.units == "mm");
+  for (const auto& v : rc.model.vertices)
+    for (const double x : {v.p.x, v.p.y, v.p.z}) CHECK(std::abs(x) == 1.0);
+  check_scaled(rc.model, rm.model, 10.0);
+  // Tolerances do not scale: OCC gives vertices its Precision::Confusion() (1e-7) in
+  // whatever unit the model is in, and only enlarges them where the geometry needs it.
+  for (std::size_t i = 0; i < rc.model.vertices.size(); ++i) CHECK(rc.model.vertices[i].tol == rm.model.vertices[i].tol);
+}
+
+TEST_CASE("units: inch STEP, metre and inch IGES keep their unit; conversions use the declared factor", "[io][units]") {
+  struct Case {
+    const char* file;
+    const char* unit;
+    double mm;
+  };
+  for (const Case c : {Case{"cad/gmsh_crankshaft.stp", "inch", 25.4}, Case{"cad/dealii_wigley_hull.igs", "m", 1000.0},
+                       Case{"cad/gmsh_model1.igs", "inch", 25.4}}) {
+    INFO(c.file);
+    uvmesh::io::ReadOptions o;
+    o.heal = false;
+    o.check_validity = false;
+    const uvmesh::io::ReadResult native = uvmesh::io::read_cad(kData + "/" + c.file, o);
+    REQUIRE(native.ok);
+    CHECK(native.model.units == c.unit);
+    CHECK(native.report.file_units == c.unit);
+    CHECK(native.report.mm_per_unit == c.mm);
+    CHECK_FALSE(native.report.units_converted);
+    o.units = "mm";
+    const uvmesh::io::ReadResult mm = uvmesh::io::read_cad(kData + "/" + c.file, o);
+    REQUIRE(mm.ok);
+    CHECK(mm.model.units == "mm");
+    CHECK(mm.report.units_converted);
+    check_scaled(native.model, mm.model, c.mm);
+    o.units = "cm";  // a unit that is neither the file's nor OCC's default
+    const uvmesh::io::ReadResult cm = uvmesh::io::read_cad(kData + "/" + c.file, o);
+    REQUIRE(cm.ok);
+    CHECK(cm.model.units == "cm");
+    check_scaled(native.model, cm.model, c.mm / 10.0);
+  }
+}
+
+TEST_CASE("units: BREP is unitless; --units is reported as ignored there; unknown units are refused", "[io][units]") {
+  const Run x = run("info --json --no-heal --no-check --units mm " + kData + "/cad/occt_bottle.brep");
+  REQUIRE(x.rc == 0);
+  const json j = json::parse(x.out);
+  CHECK(j["units"] == "unitless");
+  CHECK(j["unit_in_mm"].is_null());
+  CHECK(j["file_units"] == "");
+  bool warned = false;
+  for (const json& w : j["warnings"])
+    if (w.get<std::string>().find("no length unit") != std::string::npos) warned = true;
+  CHECK(warned);
+  const Run t = run("info --no-heal --no-check " + kData + "/cad/occt_bottle.brep");
+  CHECK(t.out.find("units: unitless") != std::string::npos);
+  const Run s = run("info --no-heal --no-check " + kData + "/cad/axom_tet.step");
+  CHECK(s.out.find("units: cm (1 cm = 10 mm = 0.01 m)") != std::string::npos);
+
+  CHECK(run("info --units furlong " + kData + "/cad/axom_tet.step").rc != 0);
+  uvmesh::io::ReadOptions o;
+  o.units = "furlong";
+  const uvmesh::io::ReadResult r = uvmesh::io::read_cad(kData + "/cad/axom_tet.step", o);
+  CHECK_FALSE(r.ok);
+  CHECK(r.error.find("unknown length unit") != std::string::npos);
 }

@@ -6,11 +6,19 @@
 //   io::ReadResult r = io::read_cad("part.step", opt);
 //   if (!r.ok) { std::cerr << r.error << "\n"; return 2; }   // names the file and the defect
 //   const geom::Model& m = r.model;     // m.units: length unit of the coordinates
+//   r.report.mm_per_unit                 // 25.4 for a STEP file in inches; 0 for BREP
 //   for (const io::HealStep& s : r.report.healing) ...       // what healing changed
 //
 // Bad input never crashes or hangs: the file is pre-scanned (format sniffing, truncation,
 // NaN / infinite / huge coordinates, dangling STEP references) before OpenCASCADE sees
 // it, OCC exceptions and signals are caught, and an empty result is an error.
+//
+// Units: the model keeps the file's length unit. A STEP file in inches gives coordinates
+// in inches (m.units == "inch"), an IGES file in metres coordinates in metres; BREP has no
+// unit (m.units == ""). ReadOptions::units asks for another unit instead ("mm": what OCC
+// gives by default). Both go through OCC's own unit handling at transfer time (the STEP
+// reader's system length unit, the IGES global section's cascade unit), so reading in the
+// file's unit applies a factor of exactly 1: coordinates are the numbers in the file.
 // Available with UVMESH_BUILD_CAD only.
 #pragma once
 
@@ -44,6 +52,10 @@ struct ReadOptions {
   /// micrometres is 1e9; beyond 1e12 double spacing exceeds 1e-4 and no CAD model has
   /// a meaningful point there -- a corrupted number is far more likely).
   double max_abs_coordinate = 1e12;
+  /// Length unit of the model's coordinates: "" keeps the file's unit; otherwise a unit
+  /// name (io/units.h: "mm", "cm", "m", "inch", ...) the STEP / IGES transfer converts to.
+  /// BREP files carry no unit: there the request is ignored with a warning.
+  std::string units;
   /// Install OCC's signal handlers (OSD::SetSignal, no floating-point traps) once, so
   /// that a crash inside OCC becomes a reported error. Process-wide; tools want it.
   bool install_signal_handlers = true;
@@ -63,7 +75,11 @@ struct HealStep {
 
 struct ReadReport {
   std::string format;      ///< "step", "iges", "brep"
-  std::string file_units;  ///< unit named by the file ("" for BREP, which has none)
+  std::string file_units;  ///< canonical unit the file declares (io/units.h); "" for BREP, or
+                           ///< when the file declares none or one this reader does not know
+  std::string file_units_declared;  ///< the file's own spelling ("INCH", "centimetre", IGES flag)
+  double mm_per_unit = 0.0;  ///< millimetres per unit of the coordinates; 0 = unitless (BREP)
+  bool units_converted = false;  ///< coordinates were converted from the file's unit
   std::vector<HealStep> healing;
   std::vector<std::string> warnings;
   bool validity_checked = false;  ///< geom::Face::valid comes from BRepCheck

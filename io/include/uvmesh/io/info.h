@@ -6,7 +6,9 @@
 //   std::cout << io::info_text(r.model, s, r.report);
 //   std::string js = io::info_json(r.model, s, r.report, /*indent=*/2);
 //
-// JSON keys: file, format, units, file_units, counts{solids,shells,faces,edges,vertices},
+// JSON keys: file, format, units ("inch", "mm", ...; "unitless" for BREP), unit_in_mm and
+// unit_in_m (size of one unit; null when unitless), file_units (canonical unit the file
+// declares), file_units_declared (its own spelling), units_converted, counts{solids,shells,faces,edges,vertices},
 // surface_kinds{planar:n,...}, curve_kinds{line:n,...}, seam_edges, faces_with_seams,
 // degenerate_edges, free_edges, non_manifold_edges, short_edges, short_edge_threshold,
 // min_edge_length, open_shells, vertex_gaps, bbox{min,max,diagonal}, validity_checked,
