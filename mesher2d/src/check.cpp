@@ -566,7 +566,7 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     for (std::int32_t e = 0; e < ne && !err.full(); ++e)
       if (evalid[e] && canon[e] == e && !on_chain[e])
         err.add("constrained edge " + std::to_string(e) + " " + edge_str(E[e].a, E[e].b) + " " + pt(V[E[e].a]) + "-" +
-                pt(V[E[e].b]) + " is not on any input segment");
+                pt(V[E[e].b]) + " is not on the chain of any input segment");
   }
 
   // ---- 7. point queries ----------------------------------------------------------------

@@ -146,7 +146,7 @@ TEST_CASE("check follows a segment through exactly collinear and rounded Steiner
     const CheckReport r = check(m, in);
     INFO(all(r));
     CHECK(has_error(r, "constrained edge 1 edge (3,4) (1, 0.33333333333333331)-(2, 0.66666766666666666) is not on "
-                       "any input segment"));
+                       "the chain of any input segment"));
     CHECK(has_error(r, "constrained edge 2 edge (4,1)"));
   }
 }
@@ -256,7 +256,7 @@ TEST_CASE("check reports a non-Delaunay edge unless it is constrained", "[check]
   m.boundary_edges.push_back({0, 2, 3});
   CHECK(check(m, with_diagonal, {.delaunay = true}).ok());
   // A constrained edge that is no input segment is an error of its own.
-  CHECK(has_error(check(m, in), "constrained edge 4 edge (0,2) (-2, 0)-(2, 0) is not on any input segment"));
+  CHECK(has_error(check(m, in), "constrained edge 4 edge (0,2) (-2, 0)-(2, 0) is not on the chain of any input segment"));
   // The Delaunay diagonal passes.
   m.triangles = {{0, 1, 3}, {1, 2, 3}};
   m.boundary_edges.pop_back();
