@@ -236,8 +236,9 @@ TEST_CASE("three nearly collinear segments from one point on a 0.1-scaled grid",
   // refine=true, shrunk: segments from (0.6,0.2) to (0.2,0.6), (0.3,0.5) and (0.4,0.4),
   // all on x + y = 0.8 on paper, pairwise 1e-17 apart in doubles except at the shared
   // end. Crossings among the rounded Steiner points of three segments: status
-  // CrossingSegments "segment 6 (points 4-6) crosses segment 5 (points 4-7) and the
-  // crossing point could not be inserted" (h = 0.05; h = 0.03 and 0.1 pass).
+  // CrossingSegments "segment 6 (points 4-6) crosses segment 4 (points 5-4) and the
+  // crossing point could not be inserted" at h = 0.0595 (commit f06920e; 0.03, 0.05 and
+  // 0.1 pass), for an input whose segments meet only at their shared end.
   Pslg in;
   add_loop(in, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
   in.points.insert(in.points.end(), {{0.6000000000000001, 0.2}, {0.2, 0.6000000000000001}, {0.4, 0.4},
@@ -248,6 +249,20 @@ TEST_CASE("three nearly collinear segments from one point on a 0.1-scaled grid",
   SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
   SECTION("refined, h = 0.05") { mesh_ok(in, SizeSpec::uniform(0.05), Options{}, false); }
   SECTION("refined, h = 0.0595") { mesh_ok(in, SizeSpec::uniform(0.059501741166982348), Options{}, false); }
+  SECTION("the fan of gen::random_segments(179), refined, h = 0.03, 0.05, 0.0636") {
+    // From (0.6,0.3) to (0.1,0.8), (0.2,0.7) and (0.3,0.6), on x + y = 0.9 on paper.
+    Pslg f;
+    add_loop(f, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
+    f.points.insert(f.points.end(), {{0.2, 0.7000000000000001}, {0.1, 0.8}, {0.30000000000000004, 0.6000000000000001},
+                                     {0.6000000000000001, 0.30000000000000004}});
+    f.segments.push_back({5, 7, 2});
+    f.segments.push_back({7, 4, 2});
+    f.segments.push_back({7, 6, 2});
+    for (const double h : {0.03, 0.05, 0.063610750451786796}) {
+      INFO("h = " << h);
+      mesh_ok(f, SizeSpec::uniform(h), Options{}, false);
+    }
+  }
 }
 
 TEST_CASE("two nearly collinear segments from one point enclose nothing", "[regression]") {
