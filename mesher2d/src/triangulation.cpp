@@ -381,20 +381,36 @@ bool Triangulation::segment_clear(VertId a, Vec2 p) const {
       w = y;
       break;
     }
-    if ((ox == 0 && (pts[x].x - pa.x) * (p.x - pa.x) + (pts[x].y - pa.y) * (p.y - pa.y) > 0) ||
-        (oy == 0 && (pts[y].x - pa.x) * (p.x - pa.x) + (pts[y].y - pa.y) * (p.y - pa.y) > 0))
-      return false;  // along an edge from a: p is on it or beyond a vertex
+    // Along an edge from a: p lies on that edge (clear if it is not constrained) or
+    // beyond its far vertex (not clear: the segment passes through that vertex).
+    const double dp = (p.x - pa.x) * (p.x - pa.x) + (p.y - pa.y) * (p.y - pa.y);
+    auto along = [&](VertId z, int edge) -> int {
+      const double dot = (pts[z].x - pa.x) * (p.x - pa.x) + (pts[z].y - pa.y) * (p.y - pa.y);
+      if (!(dot > 0)) return -1;  // opposite direction: keep turning
+      const double dz = (pts[z].x - pa.x) * (pts[z].x - pa.x) + (pts[z].y - pa.y) * (pts[z].y - pa.y);
+      return dz > dp && seg[3 * t + edge] == kNone ? 1 : 0;
+    };
+    if (ox == 0) {
+      const int r = along(x, prev3(k));  // edge (a, x) is edge prev(k)
+      if (r >= 0) return r == 1;
+    }
+    if (oy == 0) {
+      const int r = along(y, next3(k));  // edge (y, a) is edge next(k)
+      if (r >= 0) return r == 1;
+    }
     const std::int32_t g = opp[3 * t + prev3(k)];
     if (g == kNone || guard > (1 << 20)) return false;
     t = g / 3;
     if (t == tstart) return false;
   }
   for (int guard = 0; guard < (1 << 24); ++guard) {
-    // p inside (or on the far edge of) the current triangle: done.
-    if (orient(pts[u], pts[w], p) >= 0) return orient(pts[u], pts[w], p) > 0;
     int e = 0;
     while (!(tv[3 * t + next3(e)] == u && tv[3 * t + prev3(e)] == w)) ++e;
     const std::int32_t h = 3 * t + e;
+    // p inside the current triangle, or on its far edge (clear unless constrained).
+    const double op = orient(pts[u], pts[w], p);
+    if (op > 0) return true;
+    if (op == 0) return seg[h] == kNone;
     if (seg[h] != kNone) return false;
     const std::int32_t g = opp[h];
     if (g == kNone) return false;
