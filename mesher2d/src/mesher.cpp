@@ -144,6 +144,8 @@ class Mesher {
 
   // ---------------------------------------------------------------- size field
   SizeSpec measure_spec() const {
+    // Without refinement there is no size to conform to: Euclidean measures only.
+    if (!opt_.refine || !refine_ok_) return SizeSpec::uniform(0);
     if (size_.kind == SizeSpec::Kind::Uniform) return SizeSpec::uniform(h_uniform_);
     return size_;
   }
@@ -896,18 +898,21 @@ class Mesher {
 
   void optimize() {
     iso_uniform_ = size_.kind == SizeSpec::Kind::Uniform;
-    for (int pass = 0; pass < 8; ++pass) {
+    for (int pass = 0; pass < 3; ++pass) {
       const std::int64_t s = valence_pass();
       res_.stats.swaps += s;
       res_.stats.relocations += smooth_pass();
-      if (s == 0) break;
+      if (s < 1e-3 * tri_.num_verts()) break;
     }
+    // Passes stop early once fewer than kSmoothSettled of the vertices still move: the
+    // last passes of a converged smoothing only polish the mean, not the worst element.
+    constexpr double kSmoothSettled = 0.02;
     for (int pass = 0; pass < opt_.optimize_passes && !field_error_; ++pass) {
       const std::int64_t s = swap_pass();
       const std::int64_t r = smooth_pass();
       res_.stats.swaps += s;
       res_.stats.relocations += r;
-      if (s == 0 && r == 0) break;
+      if (s == 0 && r < kSmoothSettled * tri_.num_verts()) break;
     }
     res_.stats.swaps += swap_pass();
   }
