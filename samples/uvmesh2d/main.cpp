@@ -24,6 +24,7 @@
 #include "uvmesh2d/regions.h"
 #include "uvmesh2d/report.h"
 #include "uvmesh2d/svg.h"
+#include "uvmesh2d/text.h"
 
 namespace {
 
@@ -138,7 +139,8 @@ int run(int argc, char** argv) {
     if (!std::isfinite(size) || !(size > 0))
       return usage_error("--size must be a finite number > 0, found " + fmt(size));
     spec = m2d::SizeSpec::uniform(size);
-    size_text = "uniform:" + fmt(size, 17);
+    size_text = "uniform:";
+    c2::text::append_double(size_text, size);
   }
   if (*o_fn) {
     c2::fields::Parsed p = c2::fields::parse(metric_fn);

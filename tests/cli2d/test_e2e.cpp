@@ -196,7 +196,7 @@ TEST_CASE("e2e: square with --json: record, outputs and counts agree", "[cli2d][
   CHECK_THAT(r.err, Catch::Contains("triangles") && Catch::Contains("wrote"));
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["status"] == "Ok");
-  CHECK(j["size"] == "uniform:0.10000000000000001");
+  CHECK(j["size"] == "uniform:0.1");
   const auto nv = j["vertices"].get<std::size_t>(), nt = j["triangles"].get<std::size_t>();
   CHECK(nt > 150);  // unit square at h = 0.1: about 2 / (sqrt(3)/4 * 0.01) = 230 triangles
   CHECK(nt < 400);
@@ -296,4 +296,19 @@ TEST_CASE("e2e: two_regions: regional attributes become references, maximum area
   // region 1's (sizes from the boundary there).
   CHECK(area[2] / count[2] < 0.004);
   CHECK(area[1] / count[1] > 4 * area[2] / count[2]);
+}
+
+TEST_CASE("e2e: an Incomplete mesh is written, with a warning and status 0", "[cli2d][e2e]") {
+  ScratchDir dir("e2e-incomplete");
+  const RunResult r = cli2d_test::run_uvmesh2d(
+      dir, quote(cli2d_test::sample("square_hole.poly")) +
+               " --size 0.01 --max-vertices 500 --json -o " + quote(dir / "i.mesh"));
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.err, Catch::Contains("warning: the mesh is incomplete"));
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["status"] == "Incomplete");
+  const auto m = uvmesh::cli2d::read_medit_mesh(dir / "i.mesh");
+  REQUIRE(m.ok());
+  CHECK(m.mesh.triangles.size() == j["triangles"].get<std::size_t>());
+  CHECK(m.mesh.vertices.size() < 2000);  // far from the ~18000 of a complete mesh at h = 0.01
 }
