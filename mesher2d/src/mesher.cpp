@@ -226,14 +226,23 @@ class Mesher {
 
   void merge_duplicates() {
     const std::size_t n = in_.points.size();
-    std::vector<std::int32_t> order(n);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
-      const Vec2 &p = in_.points[a], &q = in_.points[b];
+    // Sort (x, y, index) records directly: an index sort with an indirect comparator is
+    // several times slower on a million points (cache misses on every comparison).
+    struct Rec {
+      double x, y;
+      std::int32_t i;
+    };
+    std::vector<Rec> recs(n);
+    for (std::size_t i = 0; i < n; ++i)
+      recs[i] = {in_.points[i].x, in_.points[i].y, static_cast<std::int32_t>(i)};
+    std::sort(recs.begin(), recs.end(), [](const Rec& p, const Rec& q) {
       if (p.x != q.x) return p.x < q.x;
       if (p.y != q.y) return p.y < q.y;
-      return a < b;
+      return p.i < q.i;
     });
+    std::vector<std::int32_t>& order = xy_order_;
+    order.resize(n);
+    for (std::size_t k = 0; k < n; ++k) order[k] = recs[k].i;
     rep_.assign(n, -1);
     for (std::size_t k = 0; k < n; ++k) {
       const std::int32_t i = order[k];
@@ -547,12 +556,12 @@ class Mesher {
   bool add_hull() {
     // Andrew's monotone chain with exact orientation; collinear points are left out of
     // the hull and later split the hull edges through them (enforcement).
+    // The (x, y) order of the unique input points is known from the duplicate merge.
     std::vector<VertId> v;
-    for (VertId i = 4; i < tri_.num_verts(); ++i) v.push_back(i);
+    v.reserve(xy_order_.size());
+    for (const std::int32_t i : xy_order_)
+      if (rep_[i] == i && vid_[i] != kNone) v.push_back(vid_[i]);
     auto& P = tri_.pts;
-    std::sort(v.begin(), v.end(), [&](VertId a, VertId b) {
-      return P[a].x != P[b].x ? P[a].x < P[b].x : P[a].y < P[b].y;
-    });
     std::vector<VertId> h(2 * v.size() + 2);
     std::size_t k = 0;
     for (std::size_t i = 0; i < v.size(); ++i) {
@@ -986,6 +995,7 @@ class Mesher {
   Result& res_;
   Triangulation tri_;
   std::vector<std::int32_t> rep_;   // input point -> representative input point
+  std::vector<std::int32_t> xy_order_;  // input points sorted by (x, y)
   std::vector<VertId> vid_;         // point index -> triangulation vertex
   std::vector<SegRec> segs_;
   std::vector<char> fixed_;         // per triangulation vertex: not movable
