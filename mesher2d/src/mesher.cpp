@@ -663,7 +663,8 @@ class Mesher {
     const bool aniso = size_.kind == SizeSpec::Kind::Metric && opt_.anisotropic_kernel;
     struct Cand {
       Vec2 p;
-      VertId hint;
+      VertId hint;   // the edge's first vertex
+      bool chained;  // follows the previous candidate on the same edge
     };
     std::vector<Cand> cands;
     EdgeSampler es;
@@ -686,18 +687,23 @@ class Mesher {
             if (!(L > kSqrt2)) continue;
             const int n = std::max(2, static_cast<int>(std::lround(L)));
             for (int k = 1; k < n; ++k)
-              cands.push_back({{pa.x + d.x * k / n, pa.y + d.y * k / n}, a});
+              cands.push_back({{pa.x + d.x * k / n, pa.y + d.y * k / n}, a, k > 1});
             continue;
           }
           if (!(edge_length(a, b) > 0.5)) continue;  // short even with a bump in between
           const double L = sample_edge(pa, pb, vm_[a], vm_[b], es);
           if (!(L > kSqrt2)) continue;
           const int n = std::max(2, static_cast<int>(std::lround(L)));
-          split_params(es, n, [&](double tt) { cands.push_back({{pa.x + tt * d.x, pa.y + tt * d.y}, a}); });
+          bool first = true;
+          split_params(es, n, [&](double tt) {
+            cands.push_back({{pa.x + tt * d.x, pa.y + tt * d.y}, a, !first});
+            first = false;
+          });
         }
       }
       if (cands.empty()) break;
       std::int64_t inserted = 0;
+      VertId last_v = kNone;
       for (const Cand& c : cands) {
         if (static_cast<std::int64_t>(tri_.pts.size()) >= opt_.max_vertices) {
           res_.status.code = StatusCode::Incomplete;
@@ -708,7 +714,11 @@ class Mesher {
         prm.m = metric(c.p.x, c.p.y);
         prm.use_metric = aniso;
         prm.min_dist = kFilterDist;
-        const auto r = tri_.insert_point(c.p, tri_.vtri[c.hint], prm);
+        // Walk from the previous candidate of the same edge when there is one: on the
+        // long edges of the first waves the edge's end can be far away.
+        const TriId hint = c.chained && last_v != kNone ? tri_.vtri[last_v] : tri_.vtri[c.hint];
+        const auto r = tri_.insert_point(c.p, hint, prm);
+        last_v = r.v;
         if (r.status == InsertStatus::Inserted) {
           vm_.push_back(prm.m);
           fixed_.push_back(0);
