@@ -27,7 +27,7 @@ trap 'rm -f "$tmp"' EXIT
 # Progress goes to stderr; the table (stdout) is kept.
 "$build/bench/bench_mesher2d" --out "$tmp" "$@" >/dev/null
 {
-  echo "<!-- written by bench/run.sh $* on $(date -u +%Y-%m-%dT%H:%MZ), commit $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown) -->"
+  echo "<!-- written by bench/run.sh ${*:-(full run)} on $(date -u +%Y-%m-%dT%H:%MZ), commit $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown) (working tree may differ) -->"
   cat "$tmp"
 } >"$results"
 cat "$results"
