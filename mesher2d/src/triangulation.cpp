@@ -362,47 +362,62 @@ bool Triangulation::star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, st
   return false;
 }
 
+Triangulation::Wedge Triangulation::find_wedge(VertId a, Vec2 q) const {
+  // Turn around a until the triangle (a, u, w) whose angle at a holds the direction of q
+  // (u strictly right of a->q, w strictly left), or until a neighbour of a lies on the
+  // ray from a toward q. Shared by boundary enforcement and segment_clear.
+  Wedge r;
+  const Vec2 pa = pts[a];
+  TriId t = vtri[a];
+  if (t == kNone) return r;
+  const TriId tstart = t;
+  auto ahead = [&](VertId z) {
+    return (pts[z].x - pa.x) * (q.x - pa.x) + (pts[z].y - pa.y) * (q.y - pa.y) > 0;
+  };
+  for (int guard = 0; guard < (1 << 20); ++guard) {
+    int k = 0;
+    while (tv[3 * t + k] != a) ++k;
+    const VertId x = tv[3 * t + next3(k)], y = tv[3 * t + prev3(k)];
+    const double ox = orient(pa, q, pts[x]), oy = orient(pa, q, pts[y]);
+    if (ox == 0 && ahead(x)) {
+      r.ray = x;
+      r.ray_edge = 3 * t + prev3(k);  // edge (a, x)
+      return r;
+    }
+    if (oy == 0 && ahead(y)) {
+      r.ray = y;
+      r.ray_edge = 3 * t + next3(k);  // edge (y, a)
+      return r;
+    }
+    if (ox < 0 && oy > 0) {
+      r.t = t, r.u = x, r.w = y;
+      return r;
+    }
+    const std::int32_t g = opp[3 * t + prev3(k)];
+    if (g == kNone) return r;  // a on the box border: never for mesh vertices
+    t = g / 3;
+    if (t == tstart) return r;  // no wedge: inconsistent triangulation (bug guard)
+  }
+  return r;
+}
+
 bool Triangulation::segment_clear(VertId a, Vec2 p) const {
   // Walk from vertex a toward point p (as the enforcement walk does) and report whether
   // the open segment crosses a constrained edge or passes through a vertex before it
   // reaches the triangle holding p.
   const Vec2 pa = pts[a];
-  TriId t = vtri[a];
-  if (t == kNone) return false;
-  const TriId tstart = t;
-  VertId u = kNone, w = kNone;
-  for (int guard = 0;; ++guard) {
-    int k = 0;
-    while (tv[3 * t + k] != a) ++k;
-    const VertId x = tv[3 * t + next3(k)], y = tv[3 * t + prev3(k)];
-    const double ox = orient(pa, p, pts[x]), oy = orient(pa, p, pts[y]);
-    if (ox < 0 && oy > 0) {
-      u = x;
-      w = y;
-      break;
-    }
+  const Wedge wg = find_wedge(a, p);
+  if (wg.ray != kNone) {
     // Along an edge from a: p lies on that edge (clear if it is not constrained) or
     // beyond its far vertex (not clear: the segment passes through that vertex).
+    const Vec2 z = pts[wg.ray];
+    const double dz = (z.x - pa.x) * (z.x - pa.x) + (z.y - pa.y) * (z.y - pa.y);
     const double dp = (p.x - pa.x) * (p.x - pa.x) + (p.y - pa.y) * (p.y - pa.y);
-    auto along = [&](VertId z, int edge) -> int {
-      const double dot = (pts[z].x - pa.x) * (p.x - pa.x) + (pts[z].y - pa.y) * (p.y - pa.y);
-      if (!(dot > 0)) return -1;  // opposite direction: keep turning
-      const double dz = (pts[z].x - pa.x) * (pts[z].x - pa.x) + (pts[z].y - pa.y) * (pts[z].y - pa.y);
-      return dz > dp && seg[3 * t + edge] == kNone ? 1 : 0;
-    };
-    if (ox == 0) {
-      const int r = along(x, prev3(k));  // edge (a, x) is edge prev(k)
-      if (r >= 0) return r == 1;
-    }
-    if (oy == 0) {
-      const int r = along(y, next3(k));  // edge (y, a) is edge next(k)
-      if (r >= 0) return r == 1;
-    }
-    const std::int32_t g = opp[3 * t + prev3(k)];
-    if (g == kNone || guard > (1 << 20)) return false;
-    t = g / 3;
-    if (t == tstart) return false;
+    return dz > dp && seg[wg.ray_edge] == kNone;
   }
+  if (wg.t == kNone) return false;
+  TriId t = wg.t;
+  VertId u = wg.u, w = wg.w;
   for (int guard = 0; guard < (1 << 24); ++guard) {
     int e = 0;
     while (!(tv[3 * t + next3(e)] == u && tv[3 * t + prev3(e)] == w)) ++e;
@@ -523,43 +538,20 @@ Triangulation::EnforceResult Triangulation::enforce(VertId a, VertId b, std::int
     return res;
   }
   const Vec2 pa = pts[a], pb = pts[b];
-  auto between = [&](VertId x) {  // x collinear with a, b: is it on the open segment?
-    const Vec2 q = pts[x];
-    return (q.x - pa.x) * (pb.x - pa.x) + (q.y - pa.y) * (pb.y - pa.y) > 0;
-  };
-  // Find the triangle around a whose wedge contains the direction of b.
-  TriId t = vtri[a];
-  const TriId tstart = t;
-  VertId u = kNone, w = kNone;
-  for (int guard = 0;; ++guard) {
-    int k = 0;
-    while (tv[3 * t + k] != a) ++k;
-    const VertId x = tv[3 * t + next3(k)], y = tv[3 * t + prev3(k)];
-    const double ox = orient(pa, pb, pts[x]);
-    const double oy = orient(pa, pb, pts[y]);
-    if (ox == 0 && between(x)) {
-      res.status = EnforceStatus::ThroughVertex;
-      res.through = x;
-      return res;
-    }
-    if (oy == 0 && between(y)) {
-      res.status = EnforceStatus::ThroughVertex;
-      res.through = y;
-      return res;
-    }
-    if (ox < 0 && oy > 0) {
-      u = x;
-      w = y;
-      break;
-    }
-    const std::int32_t g = opp[3 * t + prev3(k)];
-    if (g == kNone || guard > 1 << 20) return res;  // cannot happen: a is interior
-    t = g / 3;
-    if (t == tstart) {
-      res.status = EnforceStatus::Crossing;  // no wedge found: inconsistent (bug guard)
-      return res;
-    }
+  // The triangle around a whose wedge contains the direction of b. A neighbour of a on
+  // the ray toward b lies strictly between a and b (b itself would make (a, b) an edge).
+  const Wedge wg = find_wedge(a, pb);
+  if (wg.ray != kNone) {
+    res.status = EnforceStatus::ThroughVertex;
+    res.through = wg.ray;
+    return res;
   }
+  if (wg.t == kNone) {
+    res.status = EnforceStatus::Crossing;  // no wedge found: inconsistent (bug guard)
+    return res;
+  }
+  TriId t = wg.t;
+  VertId u = wg.u, w = wg.w;
   // Walk along (a, b) collecting the crossed edges (u right of ab, w left).
   std::deque<std::pair<VertId, VertId>> queue;
   for (;;) {

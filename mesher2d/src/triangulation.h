@@ -78,6 +78,17 @@ class Triangulation {
   // meets no vertex, and p lies strictly inside a triangle reached that way.
   bool segment_clear(VertId a, Vec2 p) const;
 
+  // The triangle t = (a, u, w) around vertex a whose angle at a holds the direction of q,
+  // or, when a neighbour of a lies on the ray a -> q, that vertex (ray) and the half-edge
+  // of edge (a, ray) (ray_edge). t == kNone and ray == kNone: not found (bug guard).
+  struct Wedge {
+    TriId t = kNone;
+    VertId u = kNone, w = kNone;
+    VertId ray = kNone;
+    std::int32_t ray_edge = kNone;
+  };
+  Wedge find_wedge(VertId a, Vec2 q) const;
+
   // Half-edge from a to b (a triangle containing the directed edge a -> b), or kNone.
   std::int32_t find_half_edge(VertId a, VertId b) const;
   // Flips the edge of half-edge h; the quad must be strictly convex.
