@@ -7,12 +7,7 @@ namespace uvmesh::cli2d {
 void write_gmsh22(std::ostream& out, const m2d::Mesh& m, const std::vector<int>& tri_refs) {
   std::string b;
   b.reserve(1 << 20);
-  auto flush = [&](bool force) {
-    if (force || b.size() > (1u << 20) - 256) {
-      out.write(b.data(), static_cast<std::streamsize>(b.size()));
-      b.clear();
-    }
-  };
+  auto flush = [&](bool force) { text::flush_buffer(out, b, force); };
   b += "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n";
   text::append_int(b, static_cast<std::int64_t>(m.vertices.size()));
   b += '\n';

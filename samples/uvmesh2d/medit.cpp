@@ -351,12 +351,7 @@ std::vector<int> triangle_refs(const m2d::Mesh& m, bool has_regions, std::string
 void write_medit(std::ostream& out, const m2d::Mesh& m, const std::vector<int>& tri_refs) {
   std::string b;
   b.reserve(1 << 20);
-  auto flush = [&](bool force) {
-    if (force || b.size() > (1u << 20) - 256) {
-      out.write(b.data(), static_cast<std::streamsize>(b.size()));
-      b.clear();
-    }
-  };
+  auto flush = [&](bool force) { text::flush_buffer(out, b, force); };
   b += "MeshVersionFormatted 2\nDimension 2\n\nVertices\n";
   text::append_int(b, static_cast<std::int64_t>(m.vertices.size()));
   b += '\n';

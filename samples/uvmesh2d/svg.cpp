@@ -51,12 +51,7 @@ std::string escape(const std::string& s) {
 void write_svg(std::ostream& out, const m2d::Mesh& m, const SvgOptions& opt) {
   std::string b;
   b.reserve(1 << 20);
-  auto flush = [&](bool force) {
-    if (force || b.size() > (1u << 20) - 512) {
-      out.write(b.data(), static_cast<std::streamsize>(b.size()));
-      b.clear();
-    }
-  };
+  auto flush = [&](bool force) { text::flush_buffer(out, b, force); };
 
   // Fit: the longer side of the bounding box becomes opt.size units.
   double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;

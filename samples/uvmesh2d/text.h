@@ -8,12 +8,23 @@
 
 #include <cstdint>
 #include <istream>
+#include <ostream>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace uvmesh::cli2d::text {
+
+// Writers build their text in a string buffer and write it out in chunks of about
+// kFlushBytes; flush_buffer writes and clears b when it is that full, or always if force.
+inline constexpr std::size_t kFlushBytes = (1u << 20) - 512;
+inline void flush_buffer(std::ostream& out, std::string& b, bool force) {
+  if (force || b.size() > kFlushBytes) {
+    out.write(b.data(), static_cast<std::streamsize>(b.size()));
+    b.clear();
+  }
+}
 
 // A whole-token integer: optional sign, decimal digits. nullopt for anything else
 // ("1.0", "3x", "", out of range for int64).
