@@ -296,9 +296,8 @@ int child_dt_cgal(std::int64_t n) {
   return 0;
 }
 
-int child_iso_ours(double h) {
-  const m2d::Pslg in = to_pslg(square_hole(h));
-  const m2d::SizeSpec size = m2d::SizeSpec::uniform(h);
+// Times one call of our mesher on (in, size) and prints its measures (child process).
+int run_ours(const m2d::Pslg& in, const m2d::SizeSpec& size) {
   const double w0 = wall_now(), c0 = cpu_now();
   m2d::Result r = m2d::mesh(in, size);
   const double w1 = wall_now(), c1 = cpu_now();
@@ -317,6 +316,8 @@ int child_iso_ours(double h) {
   print_result(m);
   return 0;
 }
+
+int child_iso_ours(double h) { return run_ours(to_pslg(square_hole(h)), m2d::SizeSpec::uniform(h)); }
 
 // h: boundary discretization and the size the quality is measured against; s: CGAL's size
 // bound (longest edge).
@@ -367,25 +368,7 @@ int child_iso_cgal(double h, double s) {
 }
 
 int child_aniso_ours(const std::string& field, double h0, double hmax) {
-  const m2d::Pslg in = unit_square();
-  const m2d::SizeSpec size = aniso_field(field, h0, hmax);
-  const double w0 = wall_now(), c0 = cpu_now();
-  m2d::Result r = m2d::mesh(in, size);
-  const double w1 = wall_now(), c1 = cpu_now();
-  Measure m;
-  m.rss_mb = peak_rss_mb_self();
-  if (!r.usable()) {
-    std::printf("ERROR ours: %s\n", r.status.message.c_str());
-    return 1;
-  }
-  m.wall = w1 - w0;
-  m.cpu = c1 - c0;
-  m.tris = static_cast<double>(r.mesh.triangles.size());
-  m.verts = static_cast<double>(r.mesh.vertices.size());
-  m.q = m2d::measure(r.mesh.vertices, r.mesh.triangles, size);
-  m.notes = stage_notes(r.stats) + (r.ok() ? "" : "; status: " + r.status.message);
-  print_result(m);
-  return 0;
+  return run_ours(unit_square(), aniso_field(field, h0, hmax));
 }
 
 int run_child(int argc, char** argv) {
