@@ -609,6 +609,24 @@ class Mesher {
     removed_[0] = 1;
     attr_.assign(ncomp, 0.0);
     const bool had_domain = ncomp > 1;
+    if (opt_.domain_from_orientation) {
+      // Vote per component: a constrained half-edge of a CCW triangle runs from
+      // tv[next3(i)] to tv[prev3(i)], so the triangle is on the left of its segment when
+      // that half-edge runs a -> b. A majority (not unanimity) tolerates a loop that
+      // touches itself at a vertex.
+      std::vector<std::int64_t> vote(ncomp, 0);
+      for (TriId t = 0; t < nt; ++t) {
+        if (tri_.dead(t)) continue;
+        for (int i = 0; i < 3; ++i) {
+          const std::int32_t s = tri_.seg[3 * t + i];
+          if (s == kNone || segs_[s].input < 0) continue;
+          const VertId from = tri_.tv[3 * t + detail::next3(i)];
+          vote[comp[t]] += from == segs_[s].a ? 1 : -1;
+        }
+      }
+      for (std::int32_t c = 1; c < ncomp; ++c)
+        if (vote[c] <= 0) removed_[c] = 1;
+    }
     for (std::size_t i = 0; i < in_.holes.size(); ++i) {
       const TriId t = tri_.locate(in_.holes[i], tri_.vtri[4 < tri_.num_verts() ? 4 : 0]);
       if (t == kNone || comp[t] == 0) {

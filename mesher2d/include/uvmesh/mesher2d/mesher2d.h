@@ -83,6 +83,10 @@ struct Options {
                                         // false keeps boundary vertices exactly (surface stage)
   bool split_crossing_segments = false; // false: crossing segments are an error naming both
   bool triangulate_hull_without_segments = true;  // no segments: mesh the convex hull
+  // Domain by orientation (CAD loops: the outer loop counter-clockwise, holes clockwise):
+  // a component is kept only when it lies to the left of most of its bounding segments
+  // (taken a -> b). Needs no hole seeds; seeds still apply on top.
+  bool domain_from_orientation = false;
   bool optimize = true;
   int optimize_passes = 8;
   bool anisotropic_kernel = true;       // §7.6.1 cavity criterion under M(P) when kind==Metric

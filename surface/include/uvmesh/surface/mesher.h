@@ -1,0 +1,75 @@
+// uvmesh::surface::mesh_model -- the main job: a geom::Model in, one conforming,
+// watertight surface mesh out (DESIGN.md data flow; reference chapter §7.5-7.6.2).
+//
+//   surface::MeshOptions o;
+//   o.size = surface::default_size(model);      // hmax = D/20 ... (see default_size)
+//   o.size.hmax = model.bbox.diagonal() / 40;
+//   surface::MeshResult r = surface::mesh_model(model, o);
+//   for (const auto& f : r.failed) std::cerr << "face " << f.face << ": " << f.reason;
+//   write(r.mesh);
+//
+// Stages (each timed in MeshResult::stages):
+//   1. curves: every model edge discretized once at unit length in the 3D metric along
+//      the curve (curve curvature and the metrics of the faces around it).
+//   2. faces (parallel, TBB): (u,v) PSLG from the edge nodes through each use's pcurve,
+//      mesher2d under M_uv = J^T M3 J, map back through sigma, 3D improvement.
+//   3. stitch: global numbering by model entity, orientation with the face.
+// A face that fails is listed in MeshResult::failed with the reason and left out; the
+// rest of the model is meshed.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "uvmesh/geom/model.h"
+#include "uvmesh/param/size_field.h"
+#include "uvmesh/surface/surface_mesh.h"
+
+namespace uvmesh::surface {
+
+struct MeshOptions {
+  param::SizeSpec size;
+  int threads = 0;            ///< 0: all cores
+  bool optimize3d = true;     ///< swaps and smoothing judged by 3D quality
+  int optimize3d_passes = 4;
+  /// The chordal tolerance the user asked for is divided by this before it sizes
+  /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
+  double chordal_safety = 2.5;
+  int min_segments_closed_edge = 3;
+};
+
+/// Defaults relative to the bounding-box diagonal D: hmax = D/20, hmin = D/5000,
+/// curvature angle 18 degrees (20 elements per 2 pi), chordal tolerance D/1000,
+/// gradation 1.3.
+param::SizeSpec default_size(const geom::Model& m);
+
+struct FaceFailure {
+  geom::Id face = geom::kNone;
+  std::string reason;
+};
+
+struct FaceStats {
+  geom::Id face = geom::kNone;
+  int boundary_nodes = 0;
+  int triangles = 0;
+  double seconds = 0;
+  int swaps3d = 0, moves3d = 0;
+};
+
+struct Stage {
+  std::string name;
+  double seconds = 0;
+};
+
+struct MeshResult {
+  SurfaceMesh mesh;
+  std::vector<FaceFailure> failed;
+  std::vector<FaceStats> faces;
+  std::vector<Stage> stages;
+  std::vector<std::string> warnings;
+  bool ok() const { return failed.empty(); }
+};
+
+MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt);
+
+}  // namespace uvmesh::surface

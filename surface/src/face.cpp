@@ -1,0 +1,219 @@
+// Stage 2, one face (reference chapter §7.6.2): the (u,v) PSLG is built from the edge
+// nodes through each use's pcurve at the same curve parameters (never by projection);
+// mesher2d meshes it under the induced metric M_uv = J^T M3 J; the vertices are mapped
+// back through sigma and the mesh is improved in 3D.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "internal.h"
+#include "uvmesh/mesher2d/mesher2d.h"
+
+namespace uvmesh::surface::detail {
+
+namespace {
+
+// Parameter of a use's pcurve for the curve parameter t: the same when the use's range is
+// the edge's (OCC's SameParameter), otherwise the affine map between the two ranges.
+double pcurve_param(const geom::Edge& e, const geom::EdgeUse& u, double t) {
+  if (u.range.lo == e.range.lo && u.range.hi == e.range.hi) return t;
+  const double L = e.range.length();
+  const double s = L != 0 ? (t - e.range.lo) / L : 0.0;
+  return u.range.lo + s * u.range.length();
+}
+
+// A degenerate edge (pole, cone apex) is a run of (u,v) points mapping to one 3D vertex.
+// How many: as many as the first ring of triangles around the pole will have, estimated
+// as the metric length of the pole side moved inward until sigma moves by about one
+// local size (on the side itself the induced metric is singular and capped).
+int pole_segments(const geom::EdgeUse& use, const geom::Surface& s, const param::FaceSizeField& field,
+                  const geom::Box2& box) {
+  const geom::Vec2 a = use.pcurve->point(use.range.lo), b = use.pcurve->point(use.range.hi);
+  const geom::Vec2 mid = 0.5 * (a + b);
+  const geom::Vec2 centre{box.u.mid(), box.v.mid()};
+  const geom::Vec3 pole = s.point(mid.x, mid.y);
+  const param::Metric3 m3 = field.metric3(mid.x, mid.y);
+  const auto sz = m3.sizes();
+  const double h = *std::min_element(sz.begin(), sz.end());
+  double frac = 1e-3;
+  geom::Vec2 shift{0.0};
+  for (; frac < 0.5; frac *= 2) {
+    shift = frac * (centre - mid);
+    if (glm::length(s.point(mid.x + shift.x, mid.y + shift.y) - pole) >= 0.5 * h) break;
+  }
+  double L = 0;
+  const int n = 32;
+  geom::Vec2 prev = a + shift;
+  for (int k = 1; k <= n; ++k) {
+    const geom::Vec2 q = use.pcurve->point(use.range.at(double(k) / n)) + shift;
+    const param::Metric2 mm = field.metric_uv(0.5 * (prev.x + q.x), 0.5 * (prev.y + q.y));
+    L += mm.length(q - prev);
+    prev = q;
+  }
+  return std::clamp(static_cast<int>(std::lround(L)), 1, 512);
+}
+
+std::string fmt_uv(const geom::Vec2& p) {
+  std::ostringstream o;
+  o.precision(9);
+  o << "(" << p.x << ", " << p.y << ")";
+  return o.str();
+}
+
+}  // namespace
+
+FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNodes>& edges,
+                   const std::vector<geom::Vec3>& node_points, const param::FaceSizeField& field,
+                   const MeshOptions& opt) {
+  FaceMesh out;
+  out.stats.face = fid;
+  const geom::Face& f = m.faces[static_cast<std::size_t>(fid)];
+  const geom::Surface& s = *f.surface;
+
+  // ---- the (u,v) PSLG: one point per edge node per use, in loop order.
+  m2d::Pslg in;
+  std::vector<NodeId> gid;      // PSLG point -> global node
+  std::vector<geom::Id> pedge;  // PSLG segment -> model edge (for messages)
+  for (const geom::Loop& loop : f.loops) {
+    const auto start = static_cast<m2d::VertId>(in.points.size());
+    for (const geom::EdgeUse& use : loop.uses) {
+      const geom::Edge& e = m.edges[static_cast<std::size_t>(use.edge)];
+      if (!use.pcurve) {
+        out.error = "edge " + std::to_string(use.edge) + " has no (u,v) curve on this face";
+        return out;
+      }
+      const std::size_t first = in.points.size();
+      if (e.degenerate) {
+        const int k = pole_segments(use, s, field, f.uv_box);
+        const NodeId node = edges[static_cast<std::size_t>(use.edge)].node.front();
+        for (int i = 0; i < k; ++i) {
+          const double w = use.reversed ? 1.0 - double(i) / k : double(i) / k;
+          const geom::Vec2 p = use.pcurve->point(use.range.at(w));
+          in.points.push_back({p.x, p.y});
+          gid.push_back(node);
+        }
+      } else {
+        const EdgeNodes& en = edges[static_cast<std::size_t>(use.edge)];
+        const std::size_t n = en.t.size();
+        for (std::size_t i = 0; i + 1 < n; ++i) {
+          const std::size_t k = use.reversed ? n - 1 - i : i;
+          const geom::Vec2 p = use.pcurve->point(pcurve_param(e, use, en.t[k]));
+          in.points.push_back({p.x, p.y});
+          gid.push_back(en.node[k]);
+        }
+      }
+      for (std::size_t i = first; i < in.points.size(); ++i) pedge.push_back(use.edge);
+    }
+    const auto end = static_cast<m2d::VertId>(in.points.size());
+    for (m2d::VertId i = start; i < end; ++i) {
+      const m2d::VertId j = i + 1 < end ? i + 1 : start;
+      in.segments.push_back({i, j, static_cast<int>(pedge[static_cast<std::size_t>(i)]) + 1});
+    }
+  }
+  out.stats.boundary_nodes = static_cast<int>(in.points.size());
+  if (in.segments.size() < 3) {
+    out.error = "the face's loops have fewer than 3 boundary nodes in (u,v)";
+    return out;
+  }
+  for (const auto& p : in.points)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) {
+      out.error = "a (u,v) curve gives a non-finite point";
+      return out;
+    }
+
+  // ---- mesher2d under M_uv = J^T M3 J (the field interpolates M3 on a background grid).
+  const m2d::SizeSpec size = m2d::SizeSpec::aniso([&](double u, double v) {
+    const param::Metric2 mm = field.metric_uv(u, v);
+    return m2d::Metric2{mm(0, 0), mm(0, 1), mm(1, 1)};
+  });
+  m2d::Options o;
+  o.split_segments = false;          // edge nodes are owned by the model edges
+  o.domain_from_orientation = true;  // outer loop CCW, holes CW in (u,v)
+  o.max_anisotropy = opt.size.max_uv_anisotropy;
+  const m2d::Result r = m2d::mesh(in, size, o);
+  if (!r.ok()) {
+    std::string msg = r.status.message;
+    if (r.status.code == m2d::StatusCode::CrossingSegments && r.status.entities.size() >= 2) {
+      const auto e0 = pedge[static_cast<std::size_t>(r.status.entities[0])];
+      const auto e1 = pedge[static_cast<std::size_t>(r.status.entities[1])];
+      msg = "the (u,v) curves of edges " + std::to_string(e0) + " and " + std::to_string(e1) + " cross (" + msg + ")";
+    }
+    out.error = "2D mesher: " + msg;
+    return out;
+  }
+  if (r.stats.segments_split_at_vertices > 0) {
+    out.error = "a boundary node lies on another edge's (u,v) segment; the face would not conform";
+    return out;
+  }
+
+  // ---- map back: boundary vertices are global nodes; the others are new points.
+  const m2d::Mesh& mm = r.mesh;
+  LocalMesh lm;
+  const std::size_t nv = mm.vertices.size();
+  lm.uv.resize(nv);
+  lm.p.resize(nv);
+  lm.global.assign(nv, -1);
+  lm.fixed.assign(nv, 0);
+  for (std::size_t i = 0; i < in.points.size(); ++i) {
+    const m2d::VertId v = mm.input_vertex[i];
+    if (v == m2d::kNone) {
+      out.error = "boundary node at " + fmt_uv({in.points[i].x, in.points[i].y}) + " of edge " +
+                  std::to_string(pedge[i]) + " lies outside the face's (u,v) domain (loop orientation?)";
+      return out;
+    }
+    const auto vi = static_cast<std::size_t>(v);
+    if (lm.global[vi] >= 0 && lm.global[vi] != gid[i]) {
+      out.error = "nodes " + std::to_string(lm.global[vi]) + " and " + std::to_string(gid[i]) +
+                  " (edges " + std::to_string(pedge[i]) + ") coincide in (u,v) at " +
+                  fmt_uv({in.points[i].x, in.points[i].y});
+      return out;
+    }
+    lm.global[vi] = gid[i];
+    lm.fixed[vi] = 1;
+  }
+  for (std::size_t v = 0; v < nv; ++v) {
+    lm.uv[v] = {mm.vertices[v].x, mm.vertices[v].y};
+    lm.p[v] = lm.global[v] >= 0 ? node_points[static_cast<std::size_t>(lm.global[v])] : s.point(lm.uv[v].x, lm.uv[v].y);
+  }
+  lm.tris.reserve(mm.triangles.size());
+  for (const auto& t : mm.triangles) {
+    // At a pole two (u,v) points are one node: that triangle is an edge in 3D.
+    const NodeId g0 = lm.global[static_cast<std::size_t>(t[0])], g1 = lm.global[static_cast<std::size_t>(t[1])],
+                 g2 = lm.global[static_cast<std::size_t>(t[2])];
+    if (g0 >= 0 && (g0 == g1 || g0 == g2)) continue;
+    if (g1 >= 0 && g1 == g2) continue;
+    lm.tris.push_back({t[0], t[1], t[2]});
+  }
+
+  if (opt.optimize3d) {
+    const auto [sw, mv] = improve3d(lm, s, opt.optimize3d_passes);
+    out.stats.swaps3d = sw;
+    out.stats.moves3d = mv;
+  }
+
+  // ---- the face's contribution: interior points renumbered -(k+1) in local order.
+  std::vector<NodeId> ref(nv);
+  for (std::size_t v = 0; v < nv; ++v) {
+    if (lm.global[v] >= 0) {
+      ref[v] = lm.global[v];
+    } else {
+      ref[v] = -static_cast<NodeId>(out.points.size()) - 1;
+      out.points.push_back(lm.p[v]);
+      out.uv.push_back(lm.uv[v]);
+    }
+  }
+  out.tris.reserve(lm.tris.size());
+  out.tri_uv.reserve(lm.tris.size());
+  for (const auto& t : lm.tris) {
+    // Triangles are CCW in (u,v), so their normal is sigma_u x sigma_v; a reversed face
+    // has its material on the other side.
+    std::array<int, 3> c = t;
+    if (f.reversed) std::swap(c[1], c[2]);
+    out.tris.push_back({ref[c[0]], ref[c[1]], ref[c[2]]});
+    out.tri_uv.push_back({lm.uv[c[0]], lm.uv[c[1]], lm.uv[c[2]]});
+  }
+  out.stats.triangles = static_cast<int>(out.tris.size());
+  return out;
+}
+
+}  // namespace uvmesh::surface::detail

@@ -1,0 +1,204 @@
+// Stage 2b: improvement of a face mesh in 3D (reference chapter §7.3.6 applied to the
+// mapped mesh, §7.6.2). The (u,v) mesh was built under the induced metric, which is the
+// 3D metric only to first order; on the mapped surface, edge swaps and vertex relocation
+// are judged by the 3D shape measure Q_K (eq. 7.6). Vertices move in (u,v) and are
+// mapped back through sigma, so they stay exactly on the surface; validity is kept in
+// (u,v) (every triangle stays counter-clockwise), boundary vertices never move.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+
+#include "internal.h"
+
+namespace uvmesh::surface::detail {
+
+double q3(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c) {
+  // 1/Q_K = rho / (alpha h_max), rho = 2A / perimeter, alpha = sqrt(3)/6.
+  const double la = glm::length(b - c), lb = glm::length(c - a), lc = glm::length(a - b);
+  const double area2 = glm::length(glm::cross(b - a, c - a));
+  const double hmax = std::max({la, lb, lc}), per = la + lb + lc;
+  if (!(hmax > 0) || !(per > 0)) return 0.0;
+  return (area2 / per) / (std::sqrt(3.0) / 6.0 * hmax);
+}
+
+namespace {
+
+double orient_uv(const geom::Vec2& a, const geom::Vec2& b, const geom::Vec2& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+geom::Vec3 unit_normal(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c) {
+  const geom::Vec3 n = glm::cross(b - a, c - a);
+  const double l = glm::length(n);
+  return l > 0 ? n / l : geom::Vec3(0.0);
+}
+
+struct Improver {
+  LocalMesh& lm;
+  const geom::Surface& s;
+  std::vector<std::int32_t> opp;  // half-edge 3t+i (edge opposite corner i) -> twin or -1
+
+  double q(int t) const {
+    const auto& v = lm.tris[static_cast<std::size_t>(t)];
+    return q3(lm.p[v[0]], lm.p[v[1]], lm.p[v[2]]);
+  }
+
+  void build_adjacency() {
+    const std::size_t nt = lm.tris.size();
+    opp.assign(3 * nt, -1);
+    std::unordered_map<std::uint64_t, std::int32_t> half;
+    half.reserve(3 * nt);
+    auto key = [](int a, int b) { return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b); };
+    for (std::size_t t = 0; t < nt; ++t)
+      for (int i = 0; i < 3; ++i) {
+        const int a = lm.tris[t][(i + 1) % 3], b = lm.tris[t][(i + 2) % 3];
+        half[key(a, b)] = static_cast<std::int32_t>(3 * t + i);
+      }
+    for (std::size_t t = 0; t < nt; ++t)
+      for (int i = 0; i < 3; ++i) {
+        const int a = lm.tris[t][(i + 1) % 3], b = lm.tris[t][(i + 2) % 3];
+        auto it = half.find(key(b, a));
+        if (it != half.end()) opp[3 * t + i] = it->second;
+      }
+  }
+
+  bool same_node(int a, int b) const {
+    return a == b || (lm.global[static_cast<std::size_t>(a)] >= 0 &&
+                      lm.global[static_cast<std::size_t>(a)] == lm.global[static_cast<std::size_t>(b)]);
+  }
+
+  // One sweep of quality swaps: the diagonal of two triangles is swapped when the worse
+  // of the two 3D qualities improves, both new triangles stay CCW in (u,v), and the fold
+  // between them stays moderate (a swap on a curved surface must not turn the
+  // approximation inside out).
+  int swap_pass() {
+    int swaps = 0;
+    const auto nt = static_cast<std::int32_t>(lm.tris.size());
+    for (std::int32_t t = 0; t < nt; ++t)
+      for (int i = 0; i < 3; ++i) {
+        const std::int32_t h = opp[3 * t + i];
+        if (h < 0) continue;
+        const std::int32_t u = h / 3;
+        const int j = h % 3;
+        if (u < t) continue;
+        auto& T = lm.tris[static_cast<std::size_t>(t)];
+        auto& U = lm.tris[static_cast<std::size_t>(u)];
+        const int a = T[i], b = T[(i + 1) % 3], c = T[(i + 2) % 3], d = U[j];
+        if (same_node(a, d)) continue;
+        const auto &ua = lm.uv[a], &ub = lm.uv[b], &uc = lm.uv[c], &ud = lm.uv[d];
+        if (!(orient_uv(ua, ub, ud) > 0) || !(orient_uv(ua, ud, uc) > 0)) continue;
+        const auto &pa = lm.p[a], &pb = lm.p[b], &pc = lm.p[c], &pd = lm.p[d];
+        const double before = std::min(q3(pa, pb, pc), q3(pd, pc, pb));
+        const double after = std::min(q3(pa, pb, pd), q3(pa, pd, pc));
+        if (!(after > before * 1.02 + 1e-12)) continue;
+        const double fold_old = glm::dot(unit_normal(pa, pb, pc), unit_normal(pd, pc, pb));
+        const double fold_new = glm::dot(unit_normal(pa, pb, pd), unit_normal(pa, pd, pc));
+        if (fold_new < std::min(fold_old, 0.8)) continue;
+        // New triangles (a,b,d) in t and (a,d,c) in u; relink the four outer half-edges.
+        const std::int32_t o_ab = opp[3 * t + (i + 2) % 3];  // edge a-b of t (opposite c)
+        const std::int32_t o_ca = opp[3 * t + (i + 1) % 3];  // edge c-a of t (opposite b)
+        const std::int32_t o_bd = opp[3 * u + (j + 1) % 3];  // edge b-d of u (U = d,c,b ordered from j)
+        const std::int32_t o_dc = opp[3 * u + (j + 2) % 3];  // edge d-c of u
+        T = {a, b, d};
+        U = {a, d, c};
+        auto link = [&](std::int32_t x, std::int32_t y) {
+          opp[x] = y;
+          if (y >= 0) opp[y] = x;
+        };
+        // t = (a,b,d): opposite a is b-d, opposite b is d-a, opposite d is a-b.
+        // u = (a,d,c): opposite a is d-c, opposite d is c-a, opposite c is a-d.
+        link(3 * t + 0, o_bd);
+        link(3 * t + 2, o_ab);
+        link(3 * u + 0, o_dc);
+        link(3 * u + 1, o_ca);
+        link(3 * t + 1, 3 * u + 2);
+        ++swaps;
+      }
+    return swaps;
+  }
+
+  // One sweep of relocation: each free vertex whose incident triangles are not already
+  // good moves toward the centroid of its ring in 3D; the 3D step is pulled back to
+  // (u,v) through the Jacobian (one Gauss-Newton step of the projection), then mapped
+  // through sigma. Accepted when the worst incident quality does not decrease.
+  int smooth_pass(const std::vector<std::vector<std::int32_t>>& ring) {
+    int moves = 0;
+    for (std::size_t v = 0; v < lm.uv.size(); ++v) {
+      if (lm.fixed[v] || ring[v].empty()) continue;
+      double qmin = 1.0;
+      geom::Vec3 c(0.0);
+      int nc = 0;
+      for (std::int32_t t : ring[v]) {
+        qmin = std::min(qmin, q(t));
+        for (int k : lm.tris[static_cast<std::size_t>(t)])
+          if (k != static_cast<int>(v)) c += lm.p[static_cast<std::size_t>(k)], ++nc;
+      }
+      if (qmin > 0.9 || nc == 0) continue;
+      c /= static_cast<double>(nc);  // each ring vertex counted twice: the mean is unchanged
+      const geom::SurfacePoint e = s.eval(lm.uv[v].x, lm.uv[v].y);
+      const geom::Vec3 dx = c - lm.p[v];
+      const double E = glm::dot(e.du, e.du), F = glm::dot(e.du, e.dv), G = glm::dot(e.dv, e.dv);
+      const double det = E * G - F * F;
+      if (!(det > 1e-300)) continue;
+      const double bu = glm::dot(e.du, dx), bv = glm::dot(e.dv, dx);
+      const geom::Vec2 duv{(G * bu - F * bv) / det, (E * bv - F * bu) / det};
+      const geom::Vec2 old_uv = lm.uv[v];
+      const geom::Vec3 old_p = lm.p[v];
+      bool moved = false;
+      for (double step : {1.0, 0.5, 0.25}) {
+        lm.uv[v] = old_uv + step * duv;
+        bool valid = true;
+        for (std::int32_t t : ring[v]) {
+          const auto& T = lm.tris[static_cast<std::size_t>(t)];
+          if (!(orient_uv(lm.uv[T[0]], lm.uv[T[1]], lm.uv[T[2]]) > 0)) {
+            valid = false;
+            break;
+          }
+        }
+        if (!valid) continue;
+        lm.p[v] = s.point(lm.uv[v].x, lm.uv[v].y);
+        double qn = 1.0;
+        for (std::int32_t t : ring[v]) qn = std::min(qn, q(t));
+        if (qn > qmin * 1.001) {
+          moved = true;
+          break;
+        }
+      }
+      if (!moved) {
+        lm.uv[v] = old_uv;
+        lm.p[v] = old_p;
+      } else {
+        ++moves;
+      }
+    }
+    return moves;
+  }
+};
+
+}  // namespace
+
+std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes) {
+  Improver im{lm, s, {}};
+  im.build_adjacency();
+  int swaps = 0, moves = 0;
+  std::vector<std::vector<std::int32_t>> ring;
+  for (int pass = 0; pass < passes; ++pass) {
+    int sw = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int n = im.swap_pass();
+      sw += n;
+      if (n == 0) break;
+    }
+    ring.assign(lm.uv.size(), {});
+    for (std::size_t t = 0; t < lm.tris.size(); ++t)
+      for (int k : lm.tris[t]) ring[static_cast<std::size_t>(k)].push_back(static_cast<std::int32_t>(t));
+    const int mv = im.smooth_pass(ring);
+    swaps += sw;
+    moves += mv;
+    if (sw == 0 && mv < static_cast<int>(lm.uv.size() / 50)) break;
+  }
+  return {swaps, moves};
+}
+
+}  // namespace uvmesh::surface::detail
