@@ -1,6 +1,6 @@
 // uvmesh -- command-line front end. Subcommands:
 //   uvmesh info MODEL [--json] [--no-heal] [--conform] [--any-extension] [--units UNIT]
-// (`uvmesh mesh` arrives with the surface stage; each subcommand is one function below.)
+//   uvmesh mesh MODEL -o OUT [size options] [--report FILE.json]   (mesh_cmd.cpp)
 //
 // Exit codes: 0 success, 2 the model could not be read (one line on stderr naming the
 // file and the defect), 1 command-line errors.
@@ -13,54 +13,14 @@
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/info.h"
 #include "uvmesh/io/units.h"
+#include "mesh_cmd.h"
+#include "read_flags.h"
 
 namespace {
 
-struct ReadFlags {
-  std::string model;
-  bool no_heal = false;
-  bool conform = false;
-  bool any_extension = false;
-  bool partial = false;
-  bool no_check = false;
-  double sew_rel_tol = 1e-6;
-  std::string units;  // "" = the file's own unit
-};
-
-void add_read_flags(CLI::App* cmd, ReadFlags& f) {
-  cmd->add_option("MODEL", f.model, "STEP (.step/.stp), IGES (.igs/.iges) or BREP (.brep) file")
-      ->required();
-  cmd->add_flag("--no-heal", f.no_heal, "use the model exactly as read (no ShapeFix, no sewing)");
-  cmd->add_flag("--conform", f.conform,
-                "make an assembly conforming: touching solids are imprinted (general fuse)");
-  cmd->add_flag("--any-extension", f.any_extension, "read by content when the extension disagrees");
-  cmd->add_flag("--no-check", f.no_check, "skip OCC's per-face validity check (BRepCheck), the slowest part of a load");
-  cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");
-  cmd->add_option("--sew-tol", f.sew_rel_tol, "sewing tolerance relative to the bounding-box diagonal")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--units", f.units,
-                  "convert coordinates to this length unit (" + uvmesh::io::known_length_units() +
-                      "); default: keep the unit the file declares (BREP files have none)")
-      ->check(CLI::Validator(
-          [](std::string& s) {
-            return uvmesh::io::canonical_length_unit(s).empty()
-                       ? "unknown length unit '" + s + "' (known: " + uvmesh::io::known_length_units() + ")"
-                       : std::string();
-          },
-          "UNIT"));
-}
-
-uvmesh::io::ReadOptions read_options(const ReadFlags& f) {
-  uvmesh::io::ReadOptions o;
-  o.heal = !f.no_heal;
-  o.conform = f.conform;
-  o.trust_content = f.any_extension;
-  o.sew_rel_tol = f.sew_rel_tol;
-  o.allow_partial = f.partial;
-  o.check_validity = !f.no_check;
-  o.units = f.units;
-  return o;
-}
+using uvmesh::cli::ReadFlags;
+using uvmesh::cli::add_read_flags;
+using uvmesh::cli::read_options;
 
 int run_info(const ReadFlags& f, bool json) {
   const uvmesh::io::ReadOptions opt = read_options(f);
@@ -87,9 +47,13 @@ int main(int argc, char** argv) {
   add_read_flags(info, info_flags);
   info->add_flag("--json", info_json, "machine-readable JSON on stdout");
 
+  uvmesh::cli::MeshFlags mesh_flags;
+  CLI::App* mesh = uvmesh::cli::add_mesh_command(app, mesh_flags);
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (info->parsed()) return run_info(info_flags, info_json);
+    if (mesh->parsed()) return uvmesh::cli::run_mesh(mesh_flags);
   } catch (const std::exception& e) {
     std::cerr << "uvmesh: error: " << e.what() << "\n";
     return 2;

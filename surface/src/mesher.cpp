@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -48,6 +49,15 @@ void parallel_indices(tbb::task_arena& arena, std::size_t n, F&& f) {
 }
 
 }  // namespace
+
+double MeshResult::metric_length(NodeId a, NodeId b) const {
+  const geom::Vec3 d = mesh.points[static_cast<std::size_t>(b)] - mesh.points[static_cast<std::size_t>(a)];
+  const double la = point_metric[static_cast<std::size_t>(a)].length(d);
+  const double lb = point_metric[static_cast<std::size_t>(b)].length(d);
+  const double r = la > 0 ? lb / la : 1.0;
+  if (std::abs(r - 1) < 1e-3 || !(r > 0)) return 0.5 * (la + lb);
+  return (lb - la) / std::log(r);  // eq. 7.10 with a geometric size progression
+}
 
 MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   MeshResult res;
@@ -135,6 +145,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   // ---- 2. faces, in parallel; each face only touches its own surface and pcurves.
   t0 = Clock::now();
   std::vector<detail::FaceMesh> fm(nf);
+  std::atomic<int> done{0};
   const std::vector<geom::Vec3>& node_points = M.points;
   parallel_indices(arena, nf, [&](std::size_t f) {
     if (!face_error[f].empty()) return;
@@ -148,11 +159,16 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     fm[f].stats.face = static_cast<geom::Id>(f);
     fm[f].stats.seconds = seconds_since(tf);
     if (!fm[f].error.empty()) face_error[f] = fm[f].error;
+    const int d = ++done;
+    if (opt.progress) opt.progress(d, static_cast<int>(nf));
   });
   res.stages.push_back({"faces", seconds_since(t0)});
 
   // ---- 3. stitch: face points appended in face order; triangles refer to global ids.
   t0 = Clock::now();
+  std::vector<param::Metric3>& metric = res.point_metric;
+  metric.assign(M.points.size(), param::Metric3::isotropic(spec.hmax));
+  std::vector<char> has_metric(M.points.size(), 0);
   for (std::size_t f = 0; f < nf; ++f) {
     if (!face_error[f].empty()) {
       res.failed.push_back({static_cast<geom::Id>(f), face_error[f]});
@@ -162,6 +178,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     detail::FaceMesh& F = fm[f];
     const auto base = static_cast<NodeId>(M.points.size());
     for (std::size_t k = 0; k < F.points.size(); ++k) {
+      metric.push_back(fields[f]->metric3(F.uv[k].x, F.uv[k].y));
       M.points.push_back(F.points[k]);
       M.point_dim.push_back(2);
       M.point_entity.push_back(static_cast<geom::Id>(f));
@@ -169,7 +186,16 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     }
     for (std::size_t t = 0; t < F.tris.size(); ++t) {
       std::array<NodeId, 3> g{};
-      for (int i = 0; i < 3; ++i) g[i] = F.tris[t][i] >= 0 ? F.tris[t][i] : base + (-F.tris[t][i] - 1);
+      for (int i = 0; i < 3; ++i) {
+        g[i] = F.tris[t][i] >= 0 ? F.tris[t][i] : base + (-F.tris[t][i] - 1);
+        if (F.tris[t][i] >= 0) {
+          // A boundary node keeps the finest metric of the faces around it.
+          const param::Metric3 mk = fields[f]->metric3(F.tri_uv[t][i].x, F.tri_uv[t][i].y);
+          param::Metric3& cur = metric[static_cast<std::size_t>(g[i])];
+          if (!has_metric[static_cast<std::size_t>(g[i])] || mk.determinant() > cur.determinant()) cur = mk;
+          has_metric[static_cast<std::size_t>(g[i])] = 1;
+        }
+      }
       M.triangles.push_back(g);
       M.triangle_face.push_back(static_cast<geom::Id>(f));
       M.triangle_uv.push_back(F.tri_uv[t]);
@@ -193,12 +219,14 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
         M.point_dim[static_cast<std::size_t>(k)] = M.point_dim[i];
         M.point_entity[static_cast<std::size_t>(k)] = M.point_entity[i];
         M.point_t[static_cast<std::size_t>(k)] = M.point_t[i];
+        metric[static_cast<std::size_t>(k)] = metric[i];
         ++k;
       }
     M.points.resize(static_cast<std::size_t>(k));
     M.point_dim.resize(static_cast<std::size_t>(k));
     M.point_entity.resize(static_cast<std::size_t>(k));
     M.point_t.resize(static_cast<std::size_t>(k));
+    metric.resize(static_cast<std::size_t>(k));
     for (auto& t : M.triangles)
       for (NodeId& v : t) v = nid[static_cast<std::size_t>(v)];
     for (auto& s : M.segments) s.a = nid[static_cast<std::size_t>(s.a)], s.b = nid[static_cast<std::size_t>(s.b)];

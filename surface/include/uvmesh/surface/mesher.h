@@ -18,6 +18,7 @@
 // rest of the model is meshed.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct MeshOptions {
   /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
   double chordal_safety = 2.5;
   int min_segments_closed_edge = 3;
+  /// Called after each face, from the worker thread that meshed it (so it must be
+  /// thread-safe): faces done so far, total faces.
+  std::function<void(int, int)> progress;
 };
 
 /// Defaults relative to the bounding-box diagonal D: hmax = D/20, hmin = D/5000,
@@ -67,6 +71,11 @@ struct MeshResult {
   std::vector<FaceStats> faces;
   std::vector<Stage> stages;
   std::vector<std::string> warnings;
+  /// The 3D metric the mesh was built for, at every point (the finest of the faces
+  /// around a boundary point): for unit-edge measures.
+  std::vector<param::Metric3> point_metric;
+  /// Metric length of the segment a-b (eq. 7.10, log-mean of the end metrics).
+  double metric_length(NodeId a, NodeId b) const;
   bool ok() const { return failed.empty(); }
 };
 

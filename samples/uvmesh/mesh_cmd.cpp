@@ -1,0 +1,335 @@
+// `uvmesh mesh MODEL -o OUT`: read, mesh (surface::mesh_model), check, write, report.
+//
+// Exit codes: 0 success; 1 command-line error; 2 the model could not be read; 3 some
+// faces could not be meshed (the rest is written; 0 with --allow-holes); 4 the output
+// could not be written.
+#include "mesh_cmd.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+
+#include "uvmesh/io/mesh_writer.h"
+#include "uvmesh/surface/check3d.h"
+#include "uvmesh/surface/mesher.h"
+
+namespace uvmesh::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// "ID=H" -> (ID, H); false when malformed.
+bool parse_id_size(const std::string& s, geom::Id& id, double& h) {
+  const auto eq = s.find('=');
+  if (eq == std::string::npos) return false;
+  try {
+    std::size_t k1 = 0, k2 = 0;
+    const long v = std::stol(s.substr(0, eq), &k1);
+    h = std::stod(s.substr(eq + 1), &k2);
+    if (k1 != eq || k2 != s.size() - eq - 1 || v < 0 || !(h > 0) || !std::isfinite(h)) return false;
+    id = static_cast<geom::Id>(v);
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+// Local sizes file: one "face ID H" or "edge ID H" per line; '#' starts a comment.
+bool read_size_file(const std::string& path, param::SizeSpec& spec, std::string& err) {
+  std::ifstream in(path);
+  if (!in) {
+    err = path + ": cannot open the sizes file";
+    return false;
+  }
+  std::string line;
+  int ln = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    if (auto c = line.find('#'); c != std::string::npos) line.resize(c);
+    std::istringstream ss(line);
+    std::string kind;
+    if (!(ss >> kind)) continue;
+    long id = -1;
+    double h = 0;
+    std::string extra;
+    if (!(ss >> id >> h) || (ss >> extra) || id < 0 || !(h > 0) || !std::isfinite(h) ||
+        (kind != "face" && kind != "edge")) {
+      err = path + ":" + std::to_string(ln) + ": expected 'face ID SIZE' or 'edge ID SIZE'";
+      return false;
+    }
+    (kind == "face" ? spec.face_size : spec.edge_size)[static_cast<geom::Id>(id)] = h;
+  }
+  return true;
+}
+
+}  // namespace
+
+CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
+  CLI::App* c = app.add_subcommand(
+      "mesh",
+      "mesh a CAD model into one conforming surface mesh.\n"
+      "Defaults (D = bounding-box diagonal): --hmax D/20, --hmin D/5000, --angle 18 (20 elements\n"
+      "per 2 pi), --chordal D/1000, --grad 1.3, isotropic sizes. Giving --angle or --chordal\n"
+      "replaces both curvature defaults (the other is then off unless also given).");
+  add_read_flags(c, f.read);
+  c->add_option("-o,--output", f.out, "output mesh; the extension picks the format (" +
+                                          io::known_mesh_extensions() + ")")
+      ->required();
+  c->add_option("--hmax", f.hmax, "largest element size (model units)")->check(CLI::PositiveNumber);
+  c->add_option("--hmax-rel", f.hmax_rel, "largest element size as a fraction of D")->check(CLI::PositiveNumber);
+  c->add_option("--hmin", f.hmin, "smallest element size")->check(CLI::PositiveNumber);
+  c->add_option("--chordal", f.chordal, "maximum distance between the mesh and the surface")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--angle", f.angle_deg, "each element spans at most DEG degrees of curvature arc")
+      ->check(CLI::Range(0.1, 180.0));
+  c->add_option("--grad", f.grad, "gradation: neighbouring sizes differ by at most this ratio")
+      ->check(CLI::Range(1.0, 100.0));
+  c->add_flag("--iso", f.iso, "isotropic curvature sizes (the default)");
+  c->add_option("--aniso", f.aniso, "anisotropic curvature sizes, stretch ratio at most R (e.g. 10)")
+      ->check(CLI::Range(1.0, 1e4));
+  c->add_option("--face-size", f.face_size, "local size on a face: ID=H (repeatable)");
+  c->add_option("--edge-size", f.edge_size, "local size on an edge: ID=H (repeatable)");
+  c->add_option("--sizes", f.size_file, "file of local sizes, lines 'face ID H' or 'edge ID H'");
+  c->add_option("--threads", f.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  c->add_option("--report", f.report, "write a JSON report (counts, times, quality, chordal, topology)");
+  c->add_flag("--allow-holes", f.allow_holes, "exit 0 even when some faces could not be meshed");
+  c->add_flag("--no-optimize3d", f.no_optimize3d, "skip the 3D swaps and smoothing");
+  c->add_flag("--no-selfint", f.no_selfint, "skip the self-intersection check of the report");
+  c->add_flag("-q,--quiet", f.quiet, "no summary line");
+  return c;
+}
+
+int run_mesh(const MeshFlags& f) {
+  const auto t_all = Clock::now();
+  auto t0 = Clock::now();
+  const io::ReadResult rr = io::read_cad(f.read.model, read_options(f.read));
+  if (!rr.ok) {
+    std::cerr << "uvmesh: error: " << rr.error << "\n";
+    return 2;
+  }
+  const double t_read = since(t0);
+  const geom::Model& model = rr.model;
+  const auto fmt = io::format_from_path(f.out);
+  if (!fmt) {
+    std::cerr << "uvmesh: error: " << f.out << ": unknown mesh extension (known: " << io::known_mesh_extensions()
+              << ")\n";
+    return 1;
+  }
+
+  // ---- sizes
+  surface::MeshOptions o;
+  o.size = surface::default_size(model);
+  const double D = model.bbox.diagonal();
+  if (f.hmax_rel > 0) o.size.hmax = f.hmax_rel * D;
+  if (f.hmax > 0) o.size.hmax = f.hmax;
+  if (f.hmin > 0) o.size.hmin = f.hmin;
+  o.size.hmin = std::min(o.size.hmin, o.size.hmax);
+  if (f.chordal > 0 || f.angle_deg > 0) {
+    o.size.chordal_tol = f.chordal;
+    o.size.angle_tol = f.angle_deg * std::numbers::pi / 180.0;
+  }
+  if (f.grad > 0) o.size.gradation = f.grad;
+  if (f.aniso > 0 && !f.iso) {
+    o.size.isotropic = false;
+    o.size.max_anisotropy = f.aniso;
+  }
+  for (const auto& [list, target] : {std::pair{&f.face_size, &o.size.face_size}, std::pair{&f.edge_size, &o.size.edge_size}})
+    for (const std::string& s : *list) {
+      geom::Id id;
+      double h;
+      if (!parse_id_size(s, id, h)) {
+        std::cerr << "uvmesh: error: '" << s << "': expected ID=SIZE\n";
+        return 1;
+      }
+      (*target)[id] = h;
+    }
+  if (!f.size_file.empty()) {
+    std::string err;
+    if (!read_size_file(f.size_file, o.size, err)) {
+      std::cerr << "uvmesh: error: " << err << "\n";
+      return 1;
+    }
+  }
+  for (const auto& [id, h] : o.size.face_size)
+    if (id >= static_cast<geom::Id>(model.faces.size())) {
+      std::cerr << "uvmesh: error: --face-size names face " << id << " but the model has " << model.faces.size()
+                << " faces\n";
+      return 1;
+    }
+  for (const auto& [id, h] : o.size.edge_size)
+    if (id >= static_cast<geom::Id>(model.edges.size())) {
+      std::cerr << "uvmesh: error: --edge-size names edge " << id << " but the model has " << model.edges.size()
+                << " edges\n";
+      return 1;
+    }
+  o.threads = f.threads;
+  o.optimize3d = !f.no_optimize3d;
+  const bool tty = isatty(STDERR_FILENO) && !f.quiet;
+  std::mutex mu;
+  if (tty)
+    o.progress = [&](int done, int total) {
+      std::lock_guard<std::mutex> lock(mu);
+      std::cerr << "\ruvmesh: faces " << done << "/" << total << std::flush;
+    };
+
+  // ---- mesh
+  t0 = Clock::now();
+  const surface::MeshResult r = surface::mesh_model(model, o);
+  const double t_mesh = since(t0);
+  if (tty) std::cerr << "\r" << std::string(40, ' ') << "\r";
+
+  // ---- write (atomic: temporary file renamed over the target)
+  t0 = Clock::now();
+  const io::WriteResult wr = io::write_mesh(r.mesh, &model, f.out);
+  const double t_write = since(t0);
+  if (!wr.ok) {
+    std::cerr << "uvmesh: error: " << wr.error << "\n";
+    return 4;
+  }
+
+  for (const auto& ff : r.failed) std::cerr << "uvmesh: face " << ff.face << " not meshed: " << ff.reason << "\n";
+
+  // ---- report
+  std::size_t free_edges = 0, nonman = 0;
+  if (!f.report.empty()) {
+    t0 = Clock::now();
+    const surface::TopologyReport topo = surface::check_topology(r.mesh);
+    free_edges = topo.free_edges;
+    nonman = topo.non_manifold_edges;
+    const surface::QualityReport q = surface::measure_quality(r.mesh, 20);
+    const surface::EdgeLengthReport el =
+        surface::measure_edge_lengths(r.mesh, [&](surface::NodeId a, surface::NodeId b) { return r.metric_length(a, b); });
+    const surface::ChordalReport ch = surface::measure_chordal(r.mesh, model, f.threads);
+    nlohmann::json j;
+    j["model"] = f.read.model;
+    j["output"] = f.out;
+    j["units"] = model.units;
+    j["bbox_diagonal"] = D;
+    j["size"] = {{"hmax", o.size.hmax},
+                 {"hmin", o.size.hmin},
+                 {"chordal", o.size.chordal_tol},
+                 {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
+                 {"gradation", o.size.gradation},
+                 {"isotropic", o.size.isotropic}};
+    j["counts"] = {{"points", r.mesh.points.size()},    {"triangles", r.mesh.triangles.size()},
+                   {"segments", r.mesh.segments.size()}, {"faces", model.faces.size()},
+                   {"edges", model.edges.size()},        {"faces_failed", r.failed.size()}};
+    nlohmann::json sec = {{"read", t_read}, {"mesh", t_mesh}, {"write", t_write}};
+    for (const auto& s : r.stages) sec["mesh_" + s.name] = s.seconds;
+    j["quality"] = {{"share_Q_lt_1_5", q.share_Q_lt_1_5},
+                    {"share_Q_lt_2", q.share_Q_lt_2},
+                    {"share_Q_lt_3", q.share_Q_lt_3},
+                    {"q_min", q.q_min},
+                    {"q_p1", q.q_p1},
+                    {"q_p5", q.q_p5},
+                    {"q_p50", q.q_p50},
+                    {"q_mean", q.q_mean},
+                    {"Q_p50", q.Q_p50},
+                    {"Q_p95", q.Q_p95},
+                    {"Q_p99", q.Q_p99},
+                    {"Q_max", q.Q_max},
+                    {"min_angle_deg", q.min_angle_deg},
+                    {"max_angle_deg", q.max_angle_deg},
+                    {"bad_at_corners", q.bad_at_corners},
+                    {"bad_away_from_corners", q.bad_away_from_corners}};
+    nlohmann::json bad = nlohmann::json::array();
+    for (const auto& b : q.bad_list) bad.push_back({{"triangle", b.triangle}, {"face", b.face}, {"Q", b.Q}});
+    j["quality"]["bad_list"] = bad;
+    j["unit_edge_share"] = el.unit_share;
+    j["edge_lengths"] = {{"edges", el.edges}, {"min", el.min}, {"max", el.max}, {"mean", el.mean},
+                         {"short", el.short_edges}, {"long", el.long_edges}};
+    const double tol = o.size.chordal_tol;
+    j["chordal"] = {{"max", ch.max},
+                    {"mean", ch.mean},
+                    {"tolerance", tol},
+                    {"within_tolerance", tol > 0 ? ch.max <= tol : true},
+                    {"samples", ch.samples},
+                    {"not_converged", ch.not_converged},
+                    {"worst_face", ch.worst.face},
+                    {"worst_point", {ch.worst.x.x, ch.worst.x.y, ch.worst.x.z}}};
+    nlohmann::json topo_j = {{"edges", topo.edges},
+                             {"free_edges", topo.free_edges},
+                             {"non_manifold_edges", topo.non_manifold_edges},
+                             {"inconsistent_edges", topo.inconsistent_edges},
+                             {"degenerate_triangles", topo.degenerate_triangles},
+                             {"close_points", topo.close_points.pairs},
+                             {"euler_characteristic", topo.euler_characteristic}};
+    // Free mesh edges on free model edges (open shells) are expected; the others are not.
+    std::size_t free_on_model_free = 0;
+    {
+      const auto ef = geom::edge_faces(model);
+      std::vector<char> model_free(model.edges.size(), 0);
+      for (std::size_t e = 0; e < model.edges.size(); ++e) model_free[e] = ef[e].size() <= 1;
+      std::map<std::pair<surface::NodeId, surface::NodeId>, int> use;
+      for (const auto& t : r.mesh.triangles)
+        for (int i = 0; i < 3; ++i) {
+          auto a = t[i], b = t[(i + 1) % 3];
+          if (a > b) std::swap(a, b);
+          ++use[{a, b}];
+        }
+      for (const auto& s : r.mesh.segments) {
+        auto a = s.a, b = s.b;
+        if (a > b) std::swap(a, b);
+        auto it = use.find({a, b});
+        if (it != use.end() && it->second == 1 && model_free[static_cast<std::size_t>(s.edge)]) ++free_on_model_free;
+      }
+    }
+    topo_j["free_edges_on_open_model_edges"] = free_on_model_free;
+    if (!f.no_selfint) {
+      const surface::IntersectionReport si = surface::find_self_intersections(r.mesh, 20, f.threads);
+      topo_j["self_intersections"] = si.intersecting_pairs;
+      nlohmann::json pairs = nlohmann::json::array();
+      for (const auto& p : si.pairs) pairs.push_back({{"t0", p.t0}, {"f0", p.f0}, {"t1", p.t1}, {"f1", p.f1}});
+      topo_j["self_intersection_list"] = pairs;
+    }
+    j["topology"] = topo_j;
+    nlohmann::json failed = nlohmann::json::array();
+    for (const auto& ff : r.failed) failed.push_back({{"face", ff.face}, {"reason", ff.reason}});
+    j["failed_faces"] = failed;
+    j["warnings"] = r.warnings;
+    sec["checks"] = since(t0);
+    sec["total"] = since(t_all);
+    j["seconds"] = sec;
+    const std::string tmp = f.report + ".tmp";
+    {
+      std::ofstream out(tmp);
+      out << j.dump(2) << "\n";
+      if (!out) {
+        std::cerr << "uvmesh: error: " << f.report << ": cannot write the report\n";
+        std::remove(tmp.c_str());
+        return 4;
+      }
+    }
+    if (std::rename(tmp.c_str(), f.report.c_str()) != 0) {
+      std::cerr << "uvmesh: error: " << f.report << ": cannot write the report\n";
+      std::remove(tmp.c_str());
+      return 4;
+    }
+  }
+
+  if (!f.quiet) {
+    std::cerr << "uvmesh: " << f.out << ": " << r.mesh.points.size() << " points, " << r.mesh.triangles.size()
+              << " triangles, " << model.faces.size() - r.failed.size() << "/" << model.faces.size()
+              << " faces meshed in " << t_mesh << " s";
+    if (!f.report.empty()) std::cerr << ", " << free_edges << " free / " << nonman << " non-manifold edges";
+    std::cerr << "\n";
+  }
+  if (!r.failed.empty() && !f.allow_holes) {
+    std::cerr << "uvmesh: error: " << r.failed.size()
+              << " face(s) could not be meshed (the mesh was written with holes; --allow-holes accepts that)\n";
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace uvmesh::cli

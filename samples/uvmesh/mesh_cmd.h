@@ -1,0 +1,33 @@
+// `uvmesh mesh MODEL -o OUT`: the main job (mesh_cmd.cpp).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+#include "read_flags.h"
+
+namespace uvmesh::cli {
+
+struct MeshFlags {
+  ReadFlags read;
+  std::string out;
+  std::string report;
+  double hmax = 0, hmin = 0, chordal = 0, angle_deg = 0, grad = 0;
+  double hmax_rel = 0;
+  bool iso = false;
+  double aniso = 0;  ///< > 0: anisotropic curvature sizes with this maximum ratio
+  int threads = 0;
+  bool allow_holes = false;
+  bool no_optimize3d = false;
+  bool no_selfint = false;
+  std::vector<std::string> face_size, edge_size;  ///< "ID=H"
+  std::string size_file;
+  bool quiet = false;
+};
+
+CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f);
+int run_mesh(const MeshFlags& f);
+
+}  // namespace uvmesh::cli

@@ -1,0 +1,59 @@
+// Model-reading flags shared by the `info` and `mesh` subcommands.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "uvmesh/io/cad_reader.h"
+#include "uvmesh/io/units.h"
+
+namespace uvmesh::cli {
+
+struct ReadFlags {
+  std::string model;
+  bool no_heal = false;
+  bool conform = false;
+  bool any_extension = false;
+  bool partial = false;
+  bool no_check = false;
+  double sew_rel_tol = 1e-6;
+  std::string units;  // "" = the file's own unit
+};
+
+inline void add_read_flags(CLI::App* cmd, ReadFlags& f) {
+  cmd->add_option("MODEL", f.model, "STEP (.step/.stp), IGES (.igs/.iges) or BREP (.brep) file")
+      ->required();
+  cmd->add_flag("--no-heal", f.no_heal, "use the model exactly as read (no ShapeFix, no sewing)");
+  cmd->add_flag("--conform", f.conform,
+                "make an assembly conforming: touching solids are imprinted (general fuse)");
+  cmd->add_flag("--any-extension", f.any_extension, "read by content when the extension disagrees");
+  cmd->add_flag("--no-check", f.no_check, "skip OCC's per-face validity check (BRepCheck), the slowest part of a load");
+  cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");
+  cmd->add_option("--sew-tol", f.sew_rel_tol, "sewing tolerance relative to the bounding-box diagonal")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--units", f.units,
+                  "convert coordinates to this length unit (" + uvmesh::io::known_length_units() +
+                      "); default: keep the unit the file declares (BREP files have none)")
+      ->check(CLI::Validator(
+          [](std::string& s) {
+            return uvmesh::io::canonical_length_unit(s).empty()
+                       ? "unknown length unit '" + s + "' (known: " + uvmesh::io::known_length_units() + ")"
+                       : std::string();
+          },
+          "UNIT"));
+}
+
+inline uvmesh::io::ReadOptions read_options(const ReadFlags& f) {
+  uvmesh::io::ReadOptions o;
+  o.heal = !f.no_heal;
+  o.conform = f.conform;
+  o.trust_content = f.any_extension;
+  o.sew_rel_tol = f.sew_rel_tol;
+  o.allow_partial = f.partial;
+  o.check_validity = !f.no_check;
+  o.units = f.units;
+  return o;
+}
+
+}  // namespace uvmesh::cli
