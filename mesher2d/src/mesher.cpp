@@ -312,12 +312,22 @@ class Mesher {
   // sampling refined until every piece is shorter than kPiece in the metric, so that a
   // size feature between the endpoints (a boundary layer, a ring) is not missed; and the
   // parameters of n - 1 points splitting it in n pieces of equal metric length.
+  // Boundary size ratio at parameter t of an edge whose ends have ratios ra, rb (<= 1):
+  // interpolated, and bounded by growth at the gradation rate from either end; l is the
+  // edge's length in the unscaled metric (Options::boundary_gradation).
+  double ratio_at(double ra, double rb, double t, double l) const {
+    const double g = opt_.boundary_gradation - 1;
+    const double r = std::min({1.0, ra + t * (rb - ra), ra + g * t * l, rb + g * (1 - t) * l});
+    return std::max(r, 1e-6);
+  }
   struct EdgeSampler {
     std::vector<double> ts, len, cum, nts, nl;
   };
   static constexpr double kPiece = 0.25;
-  double sample_edge(Vec2 a, Vec2 b, const Metric2& ma, const Metric2& mb, EdgeSampler& es) {
+  double sample_edge(Vec2 a, Vec2 b, const Metric2& ma, const Metric2& mb, EdgeSampler& es, double ra = 1,
+                     double rb = 1) {
     const Vec2 d{b.x - a.x, b.y - a.y};
+    const bool scaled = ra < 1 || rb < 1;
     es.ts.assign({0.0, 1.0});
     es.len.assign({detail::length(ma, d), detail::length(mb, d)});
     for (int it = 0; it < 40; ++it) {
@@ -329,7 +339,8 @@ class Mesher {
         if (piece > kPiece && es.nts.size() < 1'000'000) {
           const double tm = 0.5 * (es.ts[k] + es.ts[k + 1]);
           es.nts.push_back(tm);
-          es.nl.push_back(detail::length(metric(a.x + tm * d.x, a.y + tm * d.y), d));
+          const double l = detail::length(metric(a.x + tm * d.x, a.y + tm * d.y), d);
+          es.nl.push_back(scaled ? l / ratio_at(ra, rb, tm, l) : l);
           split = true;
         }
         es.nts.push_back(es.ts[k + 1]);
@@ -678,11 +689,29 @@ class Mesher {
     vm_.resize(nv);
     for (std::size_t v = 4; v < nv; ++v) vm_[v] = metric(tri_.pts[v].x, tri_.pts[v].y);
     vm_[0] = vm_[1] = vm_[2] = vm_[3] = m_uniform_;
+    rs_.assign(nv, 1.0);
+    const bool from_boundary = opt_.boundary_gradation > 1 && size_.kind != SizeSpec::Kind::Uniform;
+    if (from_boundary) {
+      // A boundary vertex whose constrained edges are shorter than unit in the field
+      // gets that length as its size ratio: its metric is scaled by 1 / ratio^2.
+      for (TriId t = 0; t < tri_.num_tris(); ++t) {
+        if (!in_domain(t)) continue;
+        for (int i = 0; i < 3; ++i) {
+          if (tri_.seg[3 * t + i] == kNone) continue;
+          const VertId a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+          const double l = edge_length(a, b);
+          if (l < 1) rs_[a] = std::min(rs_[a], std::max(l, 1e-6)), rs_[b] = std::min(rs_[b], std::max(l, 1e-6));
+        }
+      }
+      for (std::size_t v = 4; v < nv; ++v)
+        if (rs_[v] < 1) vm_[v] = detail::scaled(vm_[v], 1.0 / (rs_[v] * rs_[v]));
+    }
     const bool aniso = size_.kind == SizeSpec::Kind::Metric && opt_.anisotropic_kernel;
     struct Cand {
       Vec2 p;
       VertId hint;   // the edge's first vertex
       bool chained;  // follows the previous candidate on the same edge
+      double r = 1;  // boundary size ratio (Options::boundary_gradation)
     };
     std::vector<Cand> cands;
     EdgeSampler es;
@@ -709,12 +738,16 @@ class Mesher {
             continue;
           }
           if (!(edge_length(a, b) > 0.5)) continue;  // short even with a bump in between
-          const double L = sample_edge(pa, pb, vm_[a], vm_[b], es);
+          const double ra = rs_[a], rb = rs_[b];
+          const double L = sample_edge(pa, pb, vm_[a], vm_[b], es, ra, rb);
           if (!(L > kSqrt2)) continue;
           const int n = std::max(2, static_cast<int>(std::lround(L)));
           bool first = true;
+          // Unscaled metric length of the edge, for the gradation bound of ratio_at.
+          const double lu = (ra < 1 || rb < 1) ? 0.5 * (detail::length(vm_[a], d) * ra + detail::length(vm_[b], d) * rb) : 0;
           split_params(es, n, [&](double tt) {
-            cands.push_back({{pa.x + tt * d.x, pa.y + tt * d.y}, a, !first});
+            const double r = (ra < 1 || rb < 1) ? ratio_at(ra, rb, tt, lu) : 1.0;
+            cands.push_back({{pa.x + tt * d.x, pa.y + tt * d.y}, a, !first, r});
             first = false;
           });
         }
@@ -730,6 +763,7 @@ class Mesher {
         }
         InsertParams prm;
         prm.m = metric(c.p.x, c.p.y);
+        if (c.r < 1) prm.m = detail::scaled(prm.m, 1.0 / (c.r * c.r));
         prm.use_metric = aniso;
         prm.min_dist = kFilterDist;
         // Walk from the previous candidate of the same edge when there is one: on the
@@ -739,6 +773,7 @@ class Mesher {
         last_v = r.v;
         if (r.status == InsertStatus::Inserted) {
           vm_.push_back(prm.m);
+          rs_.push_back(c.r);
           fixed_.push_back(0);
           vmark_.push_back(0);
           ++inserted;
@@ -864,7 +899,10 @@ class Mesher {
         }
         if (valid && qmin_new > qmin_old * kSmoothAccept) {
           tri_.pts[v] = q;
-          if (!iso_uniform_) vm_[v] = metric(q.x, q.y);
+          if (!iso_uniform_) {
+            vm_[v] = metric(q.x, q.y);
+            if (static_cast<std::size_t>(v) < rs_.size() && rs_[v] < 1) vm_[v] = detail::scaled(vm_[v], 1.0 / (rs_[v] * rs_[v]));
+          }
           ++moved;
           break;
         }
@@ -991,6 +1029,7 @@ class Mesher {
       newid[v] = static_cast<VertId>(M.vertices.size());
       M.vertices.push_back(tri_.pts[v]);
       M.vertex_markers.push_back(vmark_[v]);
+      if (vm_.size() == tri_.pts.size()) M.vertex_metric.push_back(vm_[v]);
     };
     for (std::size_t i = 0; i < n; ++i) take(vid_[i]);
     for (VertId v = 4; v < nv; ++v) take(v);
@@ -1026,6 +1065,7 @@ class Mesher {
   std::vector<std::int32_t> xy_order_;  // input points sorted by (x, y)
   std::vector<VertId> vid_;         // point index -> triangulation vertex
   std::vector<SegRec> segs_;
+  std::vector<double> rs_;  // per vertex: boundary size ratio (<= 1; Options::boundary_gradation)
   std::vector<char> fixed_;         // per triangulation vertex: not movable
   std::vector<int> vmark_;          // per triangulation vertex: marker
   std::vector<Metric2> vm_;         // per triangulation vertex: metric

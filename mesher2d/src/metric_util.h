@@ -15,6 +15,7 @@ inline double length(const Metric2& m, Vec2 d) {
 
 // Convex combination of SPD tensors: SPD. Used as the metric of a triangle or an edge
 // when only the vertex metrics are known.
+inline Metric2 scaled(const Metric2& a, double s) { return {a.m11 * s, a.m12 * s, a.m22 * s}; }
 inline Metric2 mean3(const Metric2& a, const Metric2& b, const Metric2& c) {
   return {(a.m11 + b.m11 + c.m11) / 3, (a.m12 + b.m12 + c.m12) / 3, (a.m22 + b.m22 + c.m22) / 3};
 }

@@ -207,8 +207,6 @@ int run_mesh(const MeshFlags& f) {
     free_edges = topo.free_edges;
     nonman = topo.non_manifold_edges;
     const surface::QualityReport q = surface::measure_quality(r.mesh, 20);
-    const surface::EdgeLengthReport el =
-        surface::measure_edge_lengths(r.mesh, [&](surface::NodeId a, surface::NodeId b) { return r.metric_length(a, b); });
     const surface::ChordalReport ch = surface::measure_chordal(r.mesh, model, f.threads);
     nlohmann::json j;
     j["model"] = f.read.model;
@@ -245,9 +243,11 @@ int run_mesh(const MeshFlags& f) {
     nlohmann::json bad = nlohmann::json::array();
     for (const auto& b : q.bad_list) bad.push_back({{"triangle", b.triangle}, {"face", b.face}, {"Q", b.Q}});
     j["quality"]["bad_list"] = bad;
-    j["unit_edge_share"] = el.unit_share;
-    j["edge_lengths"] = {{"edges", el.edges}, {"min", el.min}, {"max", el.max}, {"mean", el.mean},
-                         {"short", el.short_edges}, {"long", el.long_edges}};
+    // Unit edges are measured face by face, in the metric each face was meshed for.
+    std::int64_t ne = 0, ns = 0, nl = 0;
+    for (const auto& fs : r.faces) ne += fs.edges, ns += fs.short_edges, nl += fs.long_edges;
+    j["unit_edge_share"] = r.unit_edge_share();
+    j["edge_lengths"] = {{"edges", ne}, {"short", ns}, {"long", nl}};
     const double tol = o.size.chordal_tol;
     j["chordal"] = {{"max", ch.max},
                     {"mean", ch.mean},

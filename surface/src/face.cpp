@@ -4,6 +4,8 @@
 // back through sigma and the mesh is improved in 3D.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "internal.h"
@@ -121,6 +123,15 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       return out;
     }
 
+  if (const char* dump = std::getenv("UVMESH_DUMP_FACE"); dump && std::atoi(dump) == fid) {  // TEMP debug
+    std::FILE* fp = std::fopen("/tmp/face.poly", "w");
+    std::fprintf(fp, "%zu 2 0 0\n", in.points.size());
+    for (std::size_t i = 0; i < in.points.size(); ++i) std::fprintf(fp, "%zu %.17g %.17g\n", i, in.points[i].x, in.points[i].y);
+    std::fprintf(fp, "%zu 1\n", in.segments.size());
+    for (std::size_t i = 0; i < in.segments.size(); ++i) std::fprintf(fp, "%zu %d %d %d\n", i, in.segments[i].a, in.segments[i].b, in.segments[i].marker);
+    std::fprintf(fp, "0\n");
+    std::fclose(fp);
+  }
   // ---- mesher2d under M_uv = J^T M3 J (the field interpolates M3 on a background grid).
   const m2d::SizeSpec size = m2d::SizeSpec::aniso([&](double u, double v) {
     const param::Metric2 mm = field.metric_uv(u, v);
@@ -130,6 +141,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   o.split_segments = false;          // edge nodes are owned by the model edges
   o.domain_from_orientation = true;  // outer loop CCW, holes CW in (u,v)
   o.max_anisotropy = opt.size.max_uv_anisotropy;
+  o.boundary_gradation = std::max(opt.size.gradation, 1.05);
   const m2d::Result r = m2d::mesh(in, size, o);
   if (!r.ok()) {
     std::string msg = r.status.message;
@@ -171,8 +183,16 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     lm.global[vi] = gid[i];
     lm.fixed[vi] = 1;
   }
+  lm.scale.assign(nv, 1.0);
   for (std::size_t v = 0; v < nv; ++v) {
     lm.uv[v] = {mm.vertices[v].x, mm.vertices[v].y};
+    if (v < mm.vertex_metric.size()) {
+      // The scale mesher2d applied to the field (sizes from the boundary): the ratio of
+      // the traces, the scaling being isotropic.
+      const param::Metric2 fm = field.metric_uv(lm.uv[v].x, lm.uv[v].y);
+      const double tr = fm(0, 0) + fm(1, 1);
+      if (tr > 0) lm.scale[v] = std::max(1.0, (mm.vertex_metric[v].m11 + mm.vertex_metric[v].m22) / tr);
+    }
     lm.p[v] = lm.global[v] >= 0 ? node_points[static_cast<std::size_t>(lm.global[v])] : s.point(lm.uv[v].x, lm.uv[v].y);
   }
   lm.tris.reserve(mm.triangles.size());
@@ -191,15 +211,42 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     out.stats.moves3d = mv;
   }
 
+  // ---- unit edges, measured in this face's metric (the field scaled as mesher2d did).
+  {
+    std::vector<param::Metric3> m3(nv);
+    std::vector<char> has(nv, 0);
+    auto metric_at = [&](int v) -> const param::Metric3& {
+      if (!has[v]) m3[v] = field.metric3(lm.uv[v].x, lm.uv[v].y) * lm.scale[v], has[v] = 1;
+      return m3[v];
+    };
+    for (const auto& t : lm.tris)
+      for (int i = 0; i < 3; ++i) {
+        const int a = t[i], b = t[(i + 1) % 3];
+        // Each interior edge is seen from both triangles: count it from the one where it
+        // runs a < b; a boundary edge has one triangle here, count it always.
+        const geom::Vec3 d = lm.p[b] - lm.p[a];
+        const double la = metric_at(a).length(d), lb = metric_at(b).length(d);
+        const double r = la > 0 ? lb / la : 1.0;
+        const double L = (std::abs(r - 1) < 1e-3 || !(r > 0)) ? 0.5 * (la + lb) : (lb - la) / std::log(r);
+        if (a > b && !(lm.fixed[a] && lm.fixed[b])) continue;
+        ++out.stats.edges;
+        if (L < std::sqrt(0.5)) ++out.stats.short_edges;
+        else if (L > std::sqrt(2.0)) ++out.stats.long_edges;
+        else ++out.stats.unit_edges;
+      }
+  }
+
   // ---- the face's contribution: interior points renumbered -(k+1) in local order.
   std::vector<NodeId> ref(nv);
   for (std::size_t v = 0; v < nv; ++v) {
     if (lm.global[v] >= 0) {
       ref[v] = lm.global[v];
+      if (lm.scale[v] > 1.0) out.boundary_scale.emplace_back(lm.global[v], lm.scale[v]);
     } else {
       ref[v] = -static_cast<NodeId>(out.points.size()) - 1;
       out.points.push_back(lm.p[v]);
       out.uv.push_back(lm.uv[v]);
+      out.scale.push_back(lm.scale[v]);
     }
   }
   out.tris.reserve(lm.tris.size());

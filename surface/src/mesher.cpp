@@ -59,6 +59,12 @@ double MeshResult::metric_length(NodeId a, NodeId b) const {
   return (lb - la) / std::log(r);  // eq. 7.10 with a geometric size progression
 }
 
+double MeshResult::unit_edge_share() const {
+  std::int64_t e = 0, u = 0;
+  for (const FaceStats& f : faces) e += f.edges, u += f.unit_edges;
+  return e > 0 ? static_cast<double>(u) / static_cast<double>(e) : 0.0;
+}
+
 MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   MeshResult res;
   const auto t_all = Clock::now();
@@ -169,6 +175,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   std::vector<param::Metric3>& metric = res.point_metric;
   metric.assign(M.points.size(), param::Metric3::isotropic(spec.hmax));
   std::vector<char> has_metric(M.points.size(), 0);
+  std::vector<double> boundary_scale(M.points.size(), 1.0);
   for (std::size_t f = 0; f < nf; ++f) {
     if (!face_error[f].empty()) {
       res.failed.push_back({static_cast<geom::Id>(f), face_error[f]});
@@ -178,7 +185,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     detail::FaceMesh& F = fm[f];
     const auto base = static_cast<NodeId>(M.points.size());
     for (std::size_t k = 0; k < F.points.size(); ++k) {
-      metric.push_back(fields[f]->metric3(F.uv[k].x, F.uv[k].y));
+      metric.push_back(fields[f]->metric3(F.uv[k].x, F.uv[k].y) * F.scale[k]);
       M.points.push_back(F.points[k]);
       M.point_dim.push_back(2);
       M.point_entity.push_back(static_cast<geom::Id>(f));
@@ -200,9 +207,13 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       M.triangle_face.push_back(static_cast<geom::Id>(f));
       M.triangle_uv.push_back(F.tri_uv[t]);
     }
+    for (const auto& [g, sc] : F.boundary_scale) boundary_scale[static_cast<std::size_t>(g)] =
+        std::max(boundary_scale[static_cast<std::size_t>(g)], sc);
     res.faces.push_back(F.stats);
     F = {};
   }
+  for (std::size_t i = 0; i < boundary_scale.size(); ++i)
+    if (boundary_scale[i] > 1.0) metric[i] = metric[i] * boundary_scale[i];
   // Model vertices used by nothing (isolated CAD vertices) are dropped so that the mesh
   // has no unreferenced points; ids are compacted in order.
   std::vector<char> used(M.points.size(), 0);

@@ -87,6 +87,11 @@ struct Options {
   // a component is kept only when it lies to the left of most of its bounding segments
   // (taken a -> b). Needs no hole seeds; seeds still apply on top.
   bool domain_from_orientation = false;
+  // Size from the boundary (what Gmsh calls "extend from boundary"): where the boundary
+  // segments are shorter than the field asks, the field is scaled down around them and
+  // the scale grows back with this gradation ratio (> 1) into the domain, so that short
+  // boundary edges do not meet large interior triangles. 0: off (the field alone).
+  double boundary_gradation = 0;
   bool optimize = true;
   int optimize_passes = 8;
   bool anisotropic_kernel = true;       // §7.6.1 cavity criterion under M(P) when kind==Metric
@@ -114,6 +119,9 @@ struct Mesh {
   std::vector<BoundaryEdge> boundary_edges;  // every constrained edge left in the mesh
   std::vector<VertId> input_vertex;          // input point i -> output vertex (kNone if
                                              // it lies outside the domain)
+  std::vector<Metric2> vertex_metric;        // the metric each vertex was placed for (the
+                                             // field, scaled by Options::boundary_gradation);
+                                             // empty when not refined
 };
 
 struct Quality {

@@ -18,6 +18,7 @@
 // rest of the model is meshed.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -35,7 +36,7 @@ struct MeshOptions {
   int optimize3d_passes = 4;
   /// The chordal tolerance the user asked for is divided by this before it sizes
   /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
-  double chordal_safety = 2.5;
+  double chordal_safety = 3.5;
   int min_segments_closed_edge = 3;
   /// Called after each face, from the worker thread that meshed it (so it must be
   /// thread-safe): faces done so far, total faces.
@@ -58,6 +59,10 @@ struct FaceStats {
   int triangles = 0;
   double seconds = 0;
   int swaps3d = 0, moves3d = 0;
+  /// Edges of the face's triangles and how many have a metric length in
+  /// [1/sqrt2, sqrt2], shorter, longer -- measured in this face's metric (edges on the
+  /// face's boundary are counted by each face around them).
+  std::int64_t edges = 0, unit_edges = 0, short_edges = 0, long_edges = 0;
 };
 
 struct Stage {
@@ -77,6 +82,8 @@ struct MeshResult {
   /// Metric length of the segment a-b (eq. 7.10, log-mean of the end metrics).
   double metric_length(NodeId a, NodeId b) const;
   bool ok() const { return failed.empty(); }
+  /// Share of unit edges over all faces (FaceStats::unit_edges / edges).
+  double unit_edge_share() const;
 };
 
 MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt);
