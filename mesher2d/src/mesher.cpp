@@ -339,8 +339,7 @@ class Mesher {
         if (piece > kPiece && es.nts.size() < 1'000'000) {
           const double tm = 0.5 * (es.ts[k] + es.ts[k + 1]);
           es.nts.push_back(tm);
-          const double l = detail::length(metric(a.x + tm * d.x, a.y + tm * d.y), d);
-          es.nl.push_back(scaled ? l / ratio_at(ra, rb, tm, l) : l);
+          es.nl.push_back(detail::length(metric(a.x + tm * d.x, a.y + tm * d.y), d));
           split = true;
         }
         es.nts.push_back(es.ts[k + 1]);
@@ -349,6 +348,35 @@ class Mesher {
       es.ts.swap(es.nts);
       es.len.swap(es.nl);
       if (!split) break;
+    }
+    if (scaled) {
+      // The boundary scale is known in closed form (ratio_at), so it needs no field
+      // evaluations: the field's lengths are interpolated on the pieces, divided by the
+      // ratio, and pieces are split until each is short in the scaled metric too.
+      const double lu = 0.5 * (es.len.front() * ra + es.len.back() * rb);
+      // vm_ at the ends is already scaled: undo it so that all samples are field lengths.
+      es.len.front() *= ra;
+      es.len.back() *= rb;
+      for (int it = 0; it < 40; ++it) {
+        es.nts.assign(1, 0.0);
+        es.nl.assign(1, es.len[0]);
+        bool split = false;
+        for (std::size_t k = 0; k + 1 < es.ts.size(); ++k) {
+          const double t0 = es.ts[k], t1 = es.ts[k + 1];
+          const double piece = (t1 - t0) * 0.5 * (es.len[k] / ratio_at(ra, rb, t0, lu) + es.len[k + 1] / ratio_at(ra, rb, t1, lu));
+          if (piece > kPiece && es.nts.size() < 1'000'000) {
+            es.nts.push_back(0.5 * (t0 + t1));
+            es.nl.push_back(0.5 * (es.len[k] + es.len[k + 1]));
+            split = true;
+          }
+          es.nts.push_back(t1);
+          es.nl.push_back(es.len[k + 1]);
+        }
+        es.ts.swap(es.nts);
+        es.len.swap(es.nl);
+        if (!split) break;
+      }
+      for (std::size_t k = 0; k < es.ts.size(); ++k) es.len[k] /= ratio_at(ra, rb, es.ts[k], lu);
     }
     es.cum.assign(es.ts.size(), 0.0);
     for (std::size_t k = 1; k < es.ts.size(); ++k)

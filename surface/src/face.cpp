@@ -4,8 +4,6 @@
 // back through sigma and the mesh is improved in 3D.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
 #include "internal.h"
@@ -54,6 +52,49 @@ int pole_segments(const geom::EdgeUse& use, const geom::Surface& s, const param:
   }
   return std::clamp(static_cast<int>(std::lround(L)), 1, 512);
 }
+
+// The induced metric on a lazily filled (u,v) grid, interpolated bilinearly component
+// by component (a convex combination of SPD tensors is SPD). mesher2d asks for the metric
+// many times per vertex (edge sampling, eq. 7.10; relocation); each exact value costs a
+// surface evaluation and two 3x3 eigen-decompositions, while the field behind it is
+// itself a smooth background grid (§7.5.1). Only the cells the mesher visits are filled.
+class UvMetricGrid {
+ public:
+  UvMetricGrid(const param::FaceSizeField& field, const geom::Box2& box, int n = 64)
+      : field_(field), box_(box), n_(n), vals_(static_cast<std::size_t>((n + 1) * (n + 1))),
+        has_(vals_.size(), 0) {}
+  m2d::Metric2 operator()(double u, double v) {
+    int i, j;
+    double tu, tv;
+    cell(box_.u, u, i, tu);
+    cell(box_.v, v, j, tv);
+    const param::Metric2 &a = at(i, j), &b = at(i + 1, j), &c = at(i, j + 1), &d = at(i + 1, j + 1);
+    const double w00 = (1 - tu) * (1 - tv), w10 = tu * (1 - tv), w01 = (1 - tu) * tv, w11 = tu * tv;
+    auto mix = [&](int r, int k) { return w00 * a(r, k) + w10 * b(r, k) + w01 * c(r, k) + w11 * d(r, k); };
+    return {mix(0, 0), mix(0, 1), mix(1, 1)};
+  }
+
+ private:
+  void cell(const geom::Interval& r, double x, int& k, double& t) const {
+    const double len = r.length() > 0 ? r.length() : 1.0;
+    const double sx = std::clamp((x - r.lo) / len, 0.0, 1.0) * n_;
+    k = std::min(static_cast<int>(sx), n_ - 1);
+    t = sx - k;
+  }
+  const param::Metric2& at(int i, int j) {
+    const auto k = static_cast<std::size_t>(i * (n_ + 1) + j);
+    if (!has_[k]) {
+      vals_[k] = field_.metric_uv(box_.u.at(double(i) / n_), box_.v.at(double(j) / n_));
+      has_[k] = 1;
+    }
+    return vals_[k];
+  }
+  const param::FaceSizeField& field_;
+  geom::Box2 box_;
+  int n_;
+  std::vector<param::Metric2> vals_;
+  std::vector<char> has_;
+};
 
 std::string fmt_uv(const geom::Vec2& p) {
   std::ostringstream o;
@@ -112,6 +153,32 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       in.segments.push_back({i, j, static_cast<int>(pedge[static_cast<std::size_t>(i)]) + 1});
     }
   }
+  // One node, one (u,v) point per side: the pcurves of two edges meeting at a vertex end
+  // a few ulps apart, and a loop touching the seam at a vertex would then put a point a
+  // hair off the seam's segment. Occurrences of a node closer than a millionth of the
+  // (u,v) box are snapped together (mesher2d merges exact duplicates); the copies of a
+  // node on the two sides of a seam are a period apart and stay distinct.
+  {
+    const double ext = std::max(f.uv_box.u.length(), f.uv_box.v.length());
+    const double tol = 1e-6 * (ext > 0 ? ext : 1.0);
+    std::vector<std::size_t> order(in.points.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return gid[a] < gid[b]; });
+    for (std::size_t k = 0; k < order.size();) {
+      std::size_t e = k;
+      while (e < order.size() && gid[order[e]] == gid[order[k]]) ++e;
+      for (std::size_t i = k + 1; i < e; ++i)
+        for (std::size_t j = k; j < i; ++j) {
+          auto& p = in.points[order[i]];
+          const auto& q = in.points[order[j]];
+          if (std::abs(p.x - q.x) <= tol && std::abs(p.y - q.y) <= tol) {
+            p = q;
+            break;
+          }
+        }
+      k = e;
+    }
+  }
   out.stats.boundary_nodes = static_cast<int>(in.points.size());
   if (in.segments.size() < 3) {
     out.error = "the face's loops have fewer than 3 boundary nodes in (u,v)";
@@ -123,20 +190,9 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       return out;
     }
 
-  if (const char* dump = std::getenv("UVMESH_DUMP_FACE"); dump && std::atoi(dump) == fid) {  // TEMP debug
-    std::FILE* fp = std::fopen("/tmp/face.poly", "w");
-    std::fprintf(fp, "%zu 2 0 0\n", in.points.size());
-    for (std::size_t i = 0; i < in.points.size(); ++i) std::fprintf(fp, "%zu %.17g %.17g\n", i, in.points[i].x, in.points[i].y);
-    std::fprintf(fp, "%zu 1\n", in.segments.size());
-    for (std::size_t i = 0; i < in.segments.size(); ++i) std::fprintf(fp, "%zu %d %d %d\n", i, in.segments[i].a, in.segments[i].b, in.segments[i].marker);
-    std::fprintf(fp, "0\n");
-    std::fclose(fp);
-  }
   // ---- mesher2d under M_uv = J^T M3 J (the field interpolates M3 on a background grid).
-  const m2d::SizeSpec size = m2d::SizeSpec::aniso([&](double u, double v) {
-    const param::Metric2 mm = field.metric_uv(u, v);
-    return m2d::Metric2{mm(0, 0), mm(0, 1), mm(1, 1)};
-  });
+  UvMetricGrid grid(field, f.uv_box);
+  const m2d::SizeSpec size = m2d::SizeSpec::aniso([&](double u, double v) { return grid(u, v); });
   m2d::Options o;
   o.split_segments = false;          // edge nodes are owned by the model edges
   o.domain_from_orientation = true;  // outer loop CCW, holes CW in (u,v)
