@@ -2,13 +2,14 @@
 # Acceptance of `uvmesh mesh` over the whole shared corpus (every model in
 # <shared data>/cad), twice: (a) default options, (b) --hmax D/40 --angle 30 (D = bounding-box
 # diagonal from `uvmesh info --json`). A model passes when, in both runs:
-#   - uvmesh exits 0 with every face meshed and writes .msh .mesh .stl .obj .vtk and --report;
+#   - uvmesh exits 0 with every face meshed and writes .msh .mesh .stl .obj .vtk and --report
+#     (one run a format while `mesh` takes a single -o);
 #   - for closed solids: 0 free edges, and 0 non-manifold edges where the CAD model has none
 #     (from the report and, on mesh.msh, from grade_mesh.py), and TetGen (-pY) fills it;
-#   - 0 self-intersections; chordal max <= its tolerance; unit-edge share >= 0.9;
+#   - 0 self-intersections; chordal max <= its tolerance (when one is set); unit-edge share >= 0.9;
 #     share of triangles with Q < 1.5 >= 0.95;
 #   - meshio reads every output file, and gmsh every one it has a reader for (not .obj),
-#     each with the report's triangle count.
+#     each with the triangle count its run reported.
 # Prints one PASS/FAIL line per model with the reasons, then a summary; exits 1 when a
 # model fails, 2 when nothing could be checked (e.g. "uvmesh mesh: not available").
 #

@@ -40,23 +40,23 @@ ROOT = os.path.dirname(os.path.dirname(HERE))
 
 # --------------------------------------------------------------------------------------
 # Field names: the one place to adjust when a report changes. Values are dotted paths.
-# `uvmesh mesh --report FILE.json`
+# `uvmesh mesh --report FILE.json` (samples/uvmesh/mesh_cmd.cpp)
 REPORT = {
     "points": "counts.points",
     "triangles": "counts.triangles",
     "faces": "counts.faces",
     "faces_failed": "counts.faces_failed",
-    "failed_faces": "failed_faces",             # list: ids, or objects with id and reason
-    "seconds_total": "seconds.total",
+    "failed_faces": "failed_faces",             # list of {"face": id, "reason": text}
+    "seconds_total": "seconds.total",           # read + mesh + write + checks
     "seconds_read": "seconds.read",
-    "seconds_curves": "seconds.curves",
-    "seconds_faces": "seconds.faces",
-    "share_Q_lt_1_5": "quality.share_q_below_1_5",  # share of triangles with Q_K < 1.5, in [0, 1]
-    "Q_max": "quality.q_max",
-    "Q_p95": "quality.q_p95",
+    "seconds_curves": "seconds.mesh_curves",
+    "seconds_faces": "seconds.mesh_faces",
+    "share_Q_lt_1_5": "quality.share_Q_lt_1_5",  # share of triangles with Q_K < 1.5, in [0, 1]
+    "Q_max": "quality.Q_max",
+    "Q_p95": "quality.Q_p95",
     "unit_edge_share": "unit_edge_share",        # share of unit edges (metric length in [1/sqrt2, sqrt2])
     "chordal_max": "chordal.max",
-    "chordal_tolerance": "chordal.tolerance",
+    "chordal_tolerance": "chordal.tolerance",    # 0 when no chordal bound was asked for
     "free_edges": "topology.free_edges",
     "non_manifold_edges": "topology.non_manifold_edges",
     "self_intersections": "topology.self_intersections",
@@ -202,6 +202,16 @@ def run(cmd, timeout, out_path=None, err_path=None, cwd=None):
             "stderr": stderr.decode("utf-8", "replace")}
 
 
+def exit_text(rc):
+    """'exit 3', or 'killed by SIGTERM' for a child ended by a signal (rc < 0)."""
+    if rc is not None and rc < 0:
+        try:
+            return "killed by %s" % signal.Signals(-rc).name
+        except ValueError:
+            return "killed by signal %d" % -rc
+    return "exit %s" % rc
+
+
 def first_error_line(text, limit=200):
     lines = [ln.strip() for ln in text.splitlines() if ln.strip()]
     for ln in lines:
@@ -339,8 +349,8 @@ def bench_uvmesh(exe, model, outdir, h, threads, timeout, tag):
     elif r["rc"] != 0:
         rec["status"] = "fail"
         failed = get(report, "faces_failed", REPORT) if report else None
-        rec["reason"] = "exit %s%s: %s" % (r["rc"], ", %s faces failed" % failed if failed else "",
-                                           first_error_line(r["stderr"]))
+        rec["reason"] = "%s%s: %s" % (exit_text(r["rc"]), ", %s faces failed" % failed if failed else "",
+                                      first_error_line(r["stderr"]) or "no message")
     elif not os.path.isfile(out):
         rec["status"], rec["reason"] = "fail", "exit 0 but no %s" % os.path.basename(out)
     else:
@@ -672,7 +682,7 @@ def count_msh22_triangles(path):
 
 def mesh_variant(ctx, model, vdir, extra):
     """Runs `uvmesh mesh` for one variant, writing every output format. Returns the run
-    record, the report and the output files."""
+    record, its command, the report, and {output file: triangles its run reported}."""
     os.makedirs(vdir, exist_ok=True)
     outs = [os.path.join(vdir, "mesh." + e) for e in OUTPUT_FORMATS]
     rep = os.path.join(vdir, "report.json")
@@ -690,19 +700,25 @@ def mesh_variant(ctx, model, vdir, extra):
             r"(^|\W)(-o|--output)\b", r["stderr"])
         partial = r["rc"] == 0 and 0 < sum(os.path.isfile(o) for o in outs) < len(outs)
         if not (refused or partial):
-            return r, cmd, load_json(rep), outs
+            report = load_json(rep)
+            return r, cmd, report, {o: get(report, "triangles", REPORT) if report else None for o in outs}
         ctx["one_output_per_run"] = True
-    r = None
-    cmd = None
+    # One run a format, each with a report of its own (a multi-threaded mesh need not be
+    # the same twice): the first run (.msh) is the one judged, the others give files.
+    first = None
+    expected = {}
     for i, o in enumerate(outs):
-        c = base[:3] + ["-o", o] + extra + (["--report", rep] if i == 0 else [])
+        ri_rep = rep if i == 0 else os.path.join(vdir, "report.%s.json" % o.rsplit(".", 1)[-1])
+        c = base[:3] + ["-o", o] + extra + ["--report", ri_rep]
         ri = run(c, ctx["timeout"], os.path.join(vdir, "run%d.out" % i), os.path.join(vdir, "run%d.err" % i))
-        if r is None:
-            r, cmd = ri, c
-        if ri["rc"] != 0:
-            r, cmd = ri, c
+        ri_report = load_json(ri_rep)
+        expected[o] = get(ri_report, "triangles", REPORT) if ri_report else None
+        if first is None:
+            first = (ri, c)
+        if ri["timed_out"]:
+            first = (ri, c)  # report the timeout; the remaining formats would time out too
             break
-    return r, cmd, load_json(rep), outs
+    return first[0], first[1], load_json(rep), expected
 
 
 def closed_solid(info):
@@ -713,14 +729,14 @@ def closed_solid(info):
 
 def judge_variant(ctx, model, info, vname, extra):
     vdir = os.path.join(ctx["out"], os.path.basename(model), vname)
-    r, cmd, rep, outs = mesh_variant(ctx, model, vdir, extra)
+    r, cmd, rep, expected = mesh_variant(ctx, model, vdir, extra)
     rec = {"variant": vname, "cmd": " ".join(cmd), "wall_s": r["wall_s"], "rc": r["rc"], "reasons": []}
     why = rec["reasons"]
     if r["timed_out"]:
         why.append("timeout after %g s" % ctx["timeout"])
         return rec
     if r["rc"] != 0:
-        why.append("exit %s: %s" % (r["rc"], first_error_line(r["stderr"])))
+        why.append("%s: %s" % (exit_text(r["rc"]), first_error_line(r["stderr"]) or "no message"))
     if rep is None:
         why.append("no report (--report)")
         return rec
@@ -749,18 +765,18 @@ def judge_variant(ctx, model, info, vname, extra):
     tol = get(rep, "chordal_tolerance", REPORT)
     if tol is None:
         why.append("report has no %s" % REPORT["chordal_tolerance"])
-    else:
-        need("chordal_max", lambda v: v <= tol, "chordal max %%s > tolerance %s" % tol)
+    elif tol > 0:  # 0: no chordal bound in force (e.g. --angle alone), nothing to hold to
+        need("chordal_max", lambda v: v <= tol, "chordal max %%.4g > tolerance %.4g" % tol)
     need("unit_edge_share", lambda v: v >= THRESHOLDS["unit_edge_share_min"],
          "unit edge share %%.3f < %g" % THRESHOLDS["unit_edge_share_min"])
     need("share_Q_lt_1_5", lambda v: v >= THRESHOLDS["share_Q_lt_1_5_min"],
          "share Q<1.5 %%.3f < %g" % THRESHOLDS["share_Q_lt_1_5_min"])
     # Every output file: present, read by meshio and gmsh with the report's triangle count.
-    for o in outs:
+    for o, n in expected.items():
         if not os.path.isfile(o):
             why.append("no %s" % os.path.basename(o))
         else:
-            why += reader_checks(ctx["meshio_py"], o, tris, ctx["timeout"])
+            why += reader_checks(ctx["meshio_py"], o, n, ctx["timeout"])
     # The .msh as a volume mesher sees it: topology on the stored indices, TetGen.
     msh = os.path.join(vdir, "mesh.msh")
     if os.path.isfile(msh):
