@@ -725,7 +725,8 @@ class Mesher {
       for (TriId t = 0; t < tri_.num_tris(); ++t) {
         if (!in_domain(t)) continue;
         for (int i = 0; i < 3; ++i) {
-          if (tri_.seg[3 * t + i] == kNone) continue;
+          const std::int32_t sg = tri_.seg[3 * t + i];
+          if (sg == kNone || segs_[sg].marker < 0) continue;
           const VertId a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
           const double l = edge_length(a, b);
           if (l < 1) rs_[a] = std::min(rs_[a], std::max(l, 1e-6)), rs_[b] = std::min(rs_[b], std::max(l, 1e-6));

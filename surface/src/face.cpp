@@ -150,7 +150,11 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     const auto end = static_cast<m2d::VertId>(in.points.size());
     for (m2d::VertId i = start; i < end; ++i) {
       const m2d::VertId j = i + 1 < end ? i + 1 : start;
-      in.segments.push_back({i, j, static_cast<int>(pedge[static_cast<std::size_t>(i)]) + 1});
+      // Marker edge id + 1; negative on a pole's collapsed side, which must not impose
+      // its (u,v) length as a size (Options::boundary_gradation).
+      const geom::Id ei = pedge[static_cast<std::size_t>(i)];
+      const bool pole = m.edges[static_cast<std::size_t>(ei)].degenerate;
+      in.segments.push_back({i, j, pole ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
     }
   }
   // One node, one (u,v) point per side: the pcurves of two edges meeting at a vertex end

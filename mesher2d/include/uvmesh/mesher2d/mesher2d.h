@@ -91,6 +91,8 @@ struct Options {
   // segments are shorter than the field asks, the field is scaled down around them and
   // the scale grows back with this gradation ratio (> 1) into the domain, so that short
   // boundary edges do not meet large interior triangles. 0: off (the field alone).
+  // Segments with a negative marker impose nothing (e.g. the collapsed side of a pole,
+  // short in the plane but not a size anyone asked for).
   double boundary_gradation = 0;
   bool optimize = true;
   int optimize_passes = 8;
