@@ -1,18 +1,18 @@
 // 3D checks and measures of a SurfaceMesh (see check3d.h for the definitions).
 #include "uvmesh/surface/check3d.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <queue>
-
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_invoke.h>
-#include <tbb/parallel_sort.h>
-#include <tbb/task_arena.h>
 
 #include "predicates3d.h"
 
@@ -160,7 +160,8 @@ ClosePointsReport find_close_points(const std::vector<Vec3>& points, double rel_
   for (const Group& g : groups) {
     // Within the cell column: a sweep along z.
     for (std::size_t i = g.begin; i < g.end; ++i)
-      for (std::size_t j = i + 1; j < g.end && rec[j].z - rec[i].z <= tol; ++j) consider(rec[i], rec[j]);
+      for (std::size_t j = i + 1; j < g.end && rec[j].z - rec[i].z <= tol; ++j)
+        consider(rec[i], rec[j]);
     // The four forward neighbour columns (each unordered pair of neighbours once).
     const std::int64_t nb[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
     for (const auto& o : nb) {
@@ -169,11 +170,13 @@ ClosePointsReport find_close_points(const std::vector<Vec3>& points, double rel_
       std::size_t s = q->begin;
       for (std::size_t i = g.begin; i < g.end; ++i) {
         while (s < q->end && rec[s].z < rec[i].z - tol) ++s;
-        for (std::size_t j = s; j < q->end && rec[j].z <= rec[i].z + tol; ++j) consider(rec[i], rec[j]);
+        for (std::size_t j = s; j < q->end && rec[j].z <= rec[i].z + tol; ++j)
+          consider(rec[i], rec[j]);
       }
     }
   }
-  for (const auto& [a, b] : smallest.sorted()) r.list.push_back({a, b, glm::length(points[a] - points[b])});
+  for (const auto& [a, b] : smallest.sorted())
+    r.list.push_back({a, b, glm::length(points[a] - points[b])});
   r.min_distance = r.pairs ? dmin : 0.0;
   return r;
 }
@@ -198,7 +201,8 @@ TopologyReport check_topology(const SurfaceMesh& m, const TopologyOptions& opt) 
     r.zero_area_triangles += zero[t] != 0;
     if (bad && r.degenerate_list.size() < cap) r.degenerate_list.push_back(static_cast<TriId>(t));
   }
-  r.degenerate_triangles = r.bad_index_triangles + r.repeated_index_triangles + r.zero_area_triangles;
+  r.degenerate_triangles =
+      r.bad_index_triangles + r.repeated_index_triangles + r.zero_area_triangles;
 
   // Directed edges of the valid triangles, sorted by (undirected edge, triangle).
   struct EdgeRec {
@@ -298,7 +302,8 @@ bool pair_intersects(const SurfaceMesh& m, TriId t0, TriId t1, PairKind& kind) {
       while (B[0] == A[(ia + 2) % 3] || B[1] == A[(ia + 2) % 3] || B[2] == A[(ia + 2) % 3]) ++ia;
       int ib = 0;
       while (A[0] == B[ib] || A[1] == B[ib] || A[2] == B[ib]) ++ib;
-      return pred3::intersect_beyond_edge(P[A[ia]], P[A[(ia + 1) % 3]], P[A[(ia + 2) % 3]], P[B[ib]]);
+      return pred3::intersect_beyond_edge(P[A[ia]], P[A[(ia + 1) % 3]], P[A[(ia + 2) % 3]],
+                                          P[B[ib]]);
     }
     case PairKind::SharedVertex: {
       int ia = 0, ib = 0;
@@ -354,7 +359,8 @@ class Bvh {
     std::int32_t count = 0;  // leaf: item count (0 for internal nodes)
   };
 
-  Bvh(const std::vector<Aabb>& boxes, std::vector<TriId> items) : boxes_(boxes), items_(std::move(items)) {
+  Bvh(const std::vector<Aabb>& boxes, std::vector<TriId> items)
+      : boxes_(boxes), items_(std::move(items)) {
     if (items_.empty()) return;
     morton_order();
     sorted_.resize(items_.size());
@@ -369,7 +375,8 @@ class Bvh {
 
  private:
   void morton_order() {
-    Aabb c{boxes_[items_[0]].lo + boxes_[items_[0]].hi, boxes_[items_[0]].lo + boxes_[items_[0]].hi};
+    Aabb c{boxes_[items_[0]].lo + boxes_[items_[0]].hi,
+           boxes_[items_[0]].lo + boxes_[items_[0]].hi};
     for (TriId t : items_) {
       const Vec3 m = boxes_[t].lo + boxes_[t].hi;  // twice the centre
       c.add({m, m});
@@ -506,7 +513,8 @@ void for_each_overlapping_pair(const Bvh& bvh, SinkOfThread&& sink_of_thread) {
                         while (!stack.empty()) {
                           const Job j = stack.back();
                           stack.pop_back();
-                          if (!split(j, [&](const Job& c) { stack.push_back(c); })) leaf_pairs(j, sink);
+                          if (!split(j, [&](const Job& c) { stack.push_back(c); }))
+                            leaf_pairs(j, sink);
                         }
                       }
                     });
@@ -543,8 +551,10 @@ IntersectionReport find_self_intersections(const SurfaceMesh& m, int max_report,
     std::vector<TriId> items;
     items.reserve(nt);
     for (std::size_t t = 0; t < nt; ++t) {
-      if (ok[t]) items.push_back(static_cast<TriId>(t));
-      else ++r.skipped_degenerate;
+      if (ok[t])
+        items.push_back(static_cast<TriId>(t));
+      else
+        ++r.skipped_degenerate;
     }
     const Bvh bvh(boxes, std::move(items));
 
@@ -572,7 +582,8 @@ IntersectionReport find_self_intersections(const SurfaceMesh& m, int max_report,
       first.merge(L.first);
     }
     for (const auto& [a, b] : first.sorted())
-      r.pairs.push_back({a, b, face_of(m, a), face_of(m, b), pair_kind(m.triangles[a], m.triangles[b])});
+      r.pairs.push_back(
+          {a, b, face_of(m, a), face_of(m, b), pair_kind(m.triangles[a], m.triangles[b])});
   });
   return r;
 }
@@ -600,7 +611,8 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list) {
     for (int k = 0; k < 3; ++k) {
       const Vec3 e1 = c[(k + 1) % 3] - c[k], e2 = c[(k + 2) % 3] - c[k];
       // atan2 of |cross| and dot: accurate for angles near 0 and 180 degrees alike.
-      const double ang = std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2)) * 180.0 / kPi;
+      const double ang =
+          std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2)) * 180.0 / kPi;
       amin[t] = std::min(amin[t], ang);
       amax[t] = std::max(amax[t], ang);
     }
@@ -664,7 +676,8 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list) {
   std::sort(bad.begin(), bad.end(), [](const BadTriangle& a, const BadTriangle& b) {
     return a.Q != b.Q ? a.Q > b.Q : a.triangle < b.triangle;
   });
-  if (bad.size() > static_cast<std::size_t>(std::max(max_list, 0))) bad.resize(std::max(max_list, 0));
+  if (bad.size() > static_cast<std::size_t>(std::max(max_list, 0)))
+    bad.resize(std::max(max_list, 0));
   r.bad_list = std::move(bad);
   return r;
 }
@@ -703,9 +716,12 @@ EdgeLengthReport measure_edge_lengths(const SurfaceMesh& m,
     sum += l;
     r.min = std::min(r.min, l);
     r.max = std::max(r.max, l);
-    if (l < lo) ++r.short_edges;
-    else if (l > hi) ++r.long_edges;
-    else ++r.unit;
+    if (l < lo)
+      ++r.short_edges;
+    else if (l > hi)
+      ++r.long_edges;
+    else
+      ++r.unit;
     // Bin: the last lower bound <= l (bins 7 and 8 are [2^-1/2, 1) and [1, 2^1/2)).
     const auto it = std::upper_bound(r.bin_lo.begin(), r.bin_lo.end(), l);
     const auto bin = std::max<std::ptrdiff_t>(0, (it - r.bin_lo.begin()) - 1);
@@ -720,8 +736,8 @@ EdgeLengthReport measure_edge_lengths(const SurfaceMesh& m,
 // 5. Chordal deviation
 // =======================================================================================
 
-Projection project_to_surface(const geom::Surface& s, const Vec3& x, Vec2 uv0, const geom::Box2& box,
-                              double scale, int max_iter) {
+Projection project_to_surface(const geom::Surface& s, const Vec3& x, Vec2 uv0,
+                              const geom::Box2& box, double scale, int max_iter) {
   auto clampuv = [&](Vec2 p) {
     return Vec2(std::clamp(p.x, box.u.lo, box.u.hi), std::clamp(p.y, box.v.lo, box.v.hi));
   };
@@ -733,20 +749,24 @@ Projection project_to_surface(const geom::Surface& s, const Vec3& x, Vec2 uv0, c
   if (!(scale > 0)) scale = std::max(glm::length(x), 1.0);
   const double tol = 1e-10 * scale;
 
-  // First-order optimality with the bounds: the residual is orthogonal to every free
-  // tangent direction (up to rounding of the residual and of sigma itself).
+  // Converged: the point is on the surface to within tol, or first-order optimality with
+  // the bounds: along every free tangent direction the residual's component is below
+  // 1e-6 |r| + tol (the distance is then exact to about 1e-12 relative; the absolute
+  // part absorbs the rounding noise of sigma and of tiny residuals).
   auto stationary = [&](const geom::SurfacePoint& ep, const Vec3& res, Vec2 p) {
-    const double rl = glm::length(res) + tol;
+    const double rl = glm::length(res);
+    if (rl <= tol) return true;
     const double gu = glm::dot(ep.du, res), gv = glm::dot(ep.dv, res);
     const bool fu = (p.x <= box.u.lo && gu > 0) || (p.x >= box.u.hi && gu < 0);
     const bool fv = (p.y <= box.v.lo && gv > 0) || (p.y >= box.v.hi && gv < 0);
-    return (fu || std::fabs(gu) <= 1e-8 * rl * glm::length(ep.du)) &&
-           (fv || std::fabs(gv) <= 1e-8 * rl * glm::length(ep.dv));
+    const double lim = 1e-6 * rl + tol;
+    return (fu || std::fabs(gu) <= lim * glm::length(ep.du)) &&
+           (fv || std::fabs(gv) <= lim * glm::length(ep.dv));
   };
 
   int it = 0;
-  bool converged = false;
-  for (; it < max_iter; ++it) {
+  bool converged = f <= tol * tol;  // already on the surface
+  for (; it < max_iter && !converged; ++it) {
     const double gu = glm::dot(e.du, r), gv = glm::dot(e.dv, r);
     const double E = glm::dot(e.du, e.du), F = glm::dot(e.du, e.dv), G = glm::dot(e.dv, e.dv);
     // Active set: a variable sitting on a bound whose descent direction (-g) points out.
@@ -777,7 +797,11 @@ Projection project_to_surface(const geom::Surface& s, const Vec3& x, Vec2 uv0, c
       d = Vec2((hvv * gu - huv * gv) / det, (huu * gv - huv * gu) / det);
     }
     if (!std::isfinite(d.x) || !std::isfinite(d.y)) break;
-    // Backtracking: accept the first step that does not increase the distance.
+    // Backtracking: accept the first step that does not increase the distance by more
+    // than tol. Near the solution the gain of a Newton step (the square of a tangential
+    // residual) drops below the rounding noise of |sigma - x|^2 long before the
+    // tangential residual itself is small, so "strictly no increase" would stall there.
+    const double accept = (std::sqrt(f) + tol) * (std::sqrt(f) + tol);
     double t = 1.0;
     bool accepted = false;
     Vec2 uvn;
@@ -789,7 +813,7 @@ Projection project_to_surface(const geom::Surface& s, const Vec3& x, Vec2 uv0, c
       en = s.eval(uvn.x, uvn.y);
       rn = en.p - x;
       fn = glm::dot(rn, rn);
-      if (fn <= f) {
+      if (fn <= accept) {
         accepted = true;
         break;
       }
@@ -805,7 +829,8 @@ Projection project_to_surface(const geom::Surface& s, const Vec3& x, Vec2 uv0, c
     r = rn;
     f = fn;
     if (moved <= tol) {
-      converged = true;
+      // A full Newton step this small is convergence; a tiny damped one may be a stall.
+      converged = t == 1.0 || stationary(e, r, uv);
       ++it;
       break;
     }
@@ -872,12 +897,12 @@ ChordalReport measure_chordal(const SurfaceMesh& m, const geom::Model& model, in
     for (TriId t : by_face[f]) {
       const pred3::Tri c = corners(m, t);
       const auto& uv = m.triangle_uv[t];
-      const double h = std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]),
-                                 glm::length(c[0] - c[2])});
+      const double h =
+          std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
       const Vec3 xs[4] = {(c[0] + c[1] + c[2]) / 3.0, 0.5 * (c[0] + c[1]), 0.5 * (c[1] + c[2]),
                           0.5 * (c[2] + c[0])};
-      const Vec2 us[4] = {(uv[0] + uv[1] + uv[2]) / 3.0, 0.5 * (uv[0] + uv[1]), 0.5 * (uv[1] + uv[2]),
-                          0.5 * (uv[2] + uv[0])};
+      const Vec2 us[4] = {(uv[0] + uv[1] + uv[2]) / 3.0, 0.5 * (uv[0] + uv[1]),
+                          0.5 * (uv[1] + uv[2]), 0.5 * (uv[2] + uv[0])};
       for (int k = 0; k < 4; ++k) {
         const Projection p = project_to_surface(s, xs[k], us[k], box, h);
         ++out.samples;

@@ -161,9 +161,12 @@ int cross_term(const Diff<T>& x, const Diff<T>& y, const Diff<T>& z, const Diff<
 // Returns the sign; `approx` receives an approximation of the value.
 template <class T>
 int det_expansion(const T (&p)[12], T& approx) {
-  const Diff<T> adx = make_diff(p[0], p[9]), ady = make_diff(p[1], p[10]), adz = make_diff(p[2], p[11]);
-  const Diff<T> bdx = make_diff(p[3], p[9]), bdy = make_diff(p[4], p[10]), bdz = make_diff(p[5], p[11]);
-  const Diff<T> cdx = make_diff(p[6], p[9]), cdy = make_diff(p[7], p[10]), cdz = make_diff(p[8], p[11]);
+  const Diff<T> adx = make_diff(p[0], p[9]), ady = make_diff(p[1], p[10]),
+                adz = make_diff(p[2], p[11]);
+  const Diff<T> bdx = make_diff(p[3], p[9]), bdy = make_diff(p[4], p[10]),
+                bdz = make_diff(p[5], p[11]);
+  const Diff<T> cdx = make_diff(p[6], p[9]), cdy = make_diff(p[7], p[10]),
+                cdz = make_diff(p[8], p[11]);
   // det = adz (bdx cdy - cdx bdy) + bdz (cdx ady - adx cdy) + cdz (adx bdy - bdx ady)
   T mi[16], t0[64], t1[64], t2[64], s01[128], det[192];
   int lm = cross_term(bdx, cdy, cdx, bdy, mi);
@@ -267,7 +270,9 @@ struct P2 {
 };
 // Projection along axis k (drop coordinate k). Exact; injective on any plane whose normal
 // has a nonzero k component, which is what projection_axis() picks.
-P2 proj(const Vec3& p, int k) { return {{p[(k + 1) % 3], p[(k + 2) % 3]}}; }
+P2 proj(const Vec3& p, int k) {
+  return {{p[(k + 1) % 3], p[(k + 2) % 3]}};
+}
 
 int o2(const P2& a, const P2& b, const P2& c) {
   const double o = m2d::pred::orient2d(a.v, b.v, c.v);
@@ -348,7 +353,9 @@ bool all_strict_same(const int* s) {
 
 }  // namespace
 
-int projection_axis(const Tri& t) { return axis_of(t[0], t[1], t[2]); }
+int projection_axis(const Tri& t) {
+  return axis_of(t[0], t[1], t[2]);
+}
 
 // Two closed non-degenerate triangles intersect iff an edge of one meets the other: the
 // intersection is a convex set; if it is not empty, each of its extreme points is where

@@ -24,7 +24,8 @@ double orient3d_fast(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3&
                      const geom::Vec3& d);
 
 /// Exact sign (-1, 0, +1) of orient3d.
-int orient3d_sign(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c, const geom::Vec3& d);
+int orient3d_sign(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c,
+                  const geom::Vec3& d);
 
 using Tri = std::array<geom::Vec3, 3>;
 

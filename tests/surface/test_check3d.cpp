@@ -2,30 +2,30 @@
 // (surface/src/predicates3d.h): topology, self-intersections (exact, against brute force),
 // orient3d against an exact big-integer reference, quality, edge lengths and chordal
 // deviation on analytic surfaces.
-#include <catch2/catch.hpp>
+#include <gmpxx.h>
 
+#include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
 
-#include <gmpxx.h>
-
 #include "predicates3d.h"
 #include "uvmesh/geom/analytic.h"
 #include "uvmesh/surface/check3d.h"
 
 using namespace uvmesh;
-using surface::SurfaceMesh;
 using geom::Vec2;
 using geom::Vec3;
+using surface::SurfaceMesh;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-int sgn(double x) { return (x > 0) - (x < 0); }
-
+int sgn(double x) {
+  return (x > 0) - (x < 0);
+}
 
 SurfaceMesh make_mesh(std::vector<Vec3> pts, std::vector<std::array<surface::NodeId, 3>> tris) {
   SurfaceMesh m;
@@ -40,16 +40,19 @@ SurfaceMesh make_mesh(std::vector<Vec3> pts, std::vector<std::array<surface::Nod
 
 // Regular octahedron, outward oriented: 0 +x, 1 -x, 2 +y, 3 -y, 4 +z, 5 -z.
 SurfaceMesh octahedron(double r = 1.0) {
-  return make_mesh({{r, 0, 0}, {-r, 0, 0}, {0, r, 0}, {0, -r, 0}, {0, 0, r}, {0, 0, -r}},
-                   {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+  return make_mesh(
+      {{r, 0, 0}, {-r, 0, 0}, {0, r, 0}, {0, -r, 0}, {0, 0, r}, {0, 0, -r}},
+      {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
 }
 
 // Unit cube, 12 outward triangles.
 SurfaceMesh cube() {
   std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i) p.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
+  for (int i = 0; i < 8; ++i)
+    p.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
   // Quads as (a b c d) counter-clockwise seen from outside.
-  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   std::vector<std::array<surface::NodeId, 3>> t;
   for (const auto& f : q) {
     t.push_back({f[0], f[1], f[2]});
@@ -140,15 +143,16 @@ int exact_orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   const mpq_class adx = D(a, 0), ady = D(a, 1), adz = D(a, 2);
   const mpq_class bdx = D(b, 0), bdy = D(b, 1), bdz = D(b, 2);
   const mpq_class cdx = D(c, 0), cdy = D(c, 1), cdz = D(c, 2);
-  const mpq_class det = adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) +
-                        cdz * (adx * bdy - bdx * ady);
+  const mpq_class det =
+      adz * (bdx * cdy - cdx * bdy) + bdz * (cdx * ady - adx * cdy) + cdz * (adx * bdy - bdx * ady);
   return sgn(det);
 }
 
 std::size_t brute_force_count(const SurfaceMesh& m) {
   std::size_t n = 0;
   for (int i = 0; i < static_cast<int>(m.triangles.size()); ++i)
-    for (int j = i + 1; j < static_cast<int>(m.triangles.size()); ++j) n += surface::triangles_intersect(m, i, j);
+    for (int j = i + 1; j < static_cast<int>(m.triangles.size()); ++j)
+      n += surface::triangles_intersect(m, i, j);
   return n;
 }
 
@@ -171,7 +175,8 @@ TEST_CASE("check3d: topology: closed octahedron", "[check3d][topology]") {
   CHECK(r.watertight());
 }
 
-TEST_CASE("check3d: topology: cube, and the cube with one triangle removed", "[check3d][topology]") {
+TEST_CASE("check3d: topology: cube, and the cube with one triangle removed",
+          "[check3d][topology]") {
   auto m = cube();
   CHECK(surface::check_topology(m).watertight());
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 0);
@@ -212,11 +217,13 @@ TEST_CASE("check3d: topology: a flipped triangle", "[check3d][topology]") {
   CHECK(r.non_manifold_edges == 0);
   CHECK(r.inconsistent_edges == 3);
   REQUIRE(r.inconsistent_list.size() == 3);
-  for (const auto& e : r.inconsistent_list) CHECK(std::find(e.triangles.begin(), e.triangles.end(), 3) != e.triangles.end());
+  for (const auto& e : r.inconsistent_list)
+    CHECK(std::find(e.triangles.begin(), e.triangles.end(), 3) != e.triangles.end());
   CHECK_FALSE(r.watertight());
 }
 
-TEST_CASE("check3d: topology: degenerate triangles and unreferenced points", "[check3d][topology]") {
+TEST_CASE("check3d: topology: degenerate triangles and unreferenced points",
+          "[check3d][topology]") {
   auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {5, 5, 5}},
                      {{0, 1, 2}, {0, 1, 3}, {1, 1, 2}, {0, 1, 9}});
   const auto r = surface::check_topology(m);
@@ -230,8 +237,9 @@ TEST_CASE("check3d: topology: degenerate triangles and unreferenced points", "[c
 }
 
 TEST_CASE("check3d: close points: threshold, duplicates, and brute force", "[check3d][topology]") {
-  std::vector<Vec3> p = {{0, 0, 0}, {1, 1, 1}, {0.5, 0.5, 0.5}, {0.5, 0.5, 0.5 + 1e-10}, {0.25, 0, 0},
-                         {0.25, 0, 0}, {0.75, 0.5, 0.5 + 1e-6}};
+  std::vector<Vec3> p = {
+      {0, 0, 0},    {1, 1, 1},    {0.5, 0.5, 0.5},        {0.5, 0.5, 0.5 + 1e-10},
+      {0.25, 0, 0}, {0.25, 0, 0}, {0.75, 0.5, 0.5 + 1e-6}};
   auto r = surface::find_close_points(p, 1e-8);
   CHECK(r.pairs == 2);
   REQUIRE(r.list.size() == 2);
@@ -247,7 +255,8 @@ TEST_CASE("check3d: close points: threshold, duplicates, and brute force", "[che
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> U(0, 1);
   std::vector<Vec3> q;
-  for (int i = 0; i < 3000; ++i) q.push_back({U(rng), U(rng), std::floor(U(rng) * 4) / 4});  // planes
+  for (int i = 0; i < 3000; ++i)
+    q.push_back({U(rng), U(rng), std::floor(U(rng) * 4) / 4});  // planes
   const double rel = 0.01;
   const double tol = rel * [&] {
     geom::Box3 b;
@@ -279,7 +288,8 @@ TEST_CASE("check3d: orient3d: sign convention and simple cases", "[check3d][pred
   CHECK(surface::pred3::orient3d(a, b, c, {0, 0, -1}) == Approx(1.0));
 }
 
-TEST_CASE("check3d: orient3d: exact sign against an exact rational reference", "[check3d][predicates]") {
+TEST_CASE("check3d: orient3d: exact sign against an exact rational reference",
+          "[check3d][predicates]") {
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> U(-1, 1);
   using surface::pred3::orient3d;
@@ -362,7 +372,8 @@ TEST_CASE("check3d: self-intersection: two crossing triangles", "[check3d][inter
 
 TEST_CASE("check3d: self-intersection: shared vertex", "[check3d][intersect]") {
   // Touching only at the shared vertex 0: nothing.
-  auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0.5}, {0, -1, 0.5}}, {{0, 1, 2}, {0, 3, 4}});
+  auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0.5}, {0, -1, 0.5}},
+                     {{0, 1, 2}, {0, 3, 4}});
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 0);
   // Coplanar, opposite wedges: nothing.
   m.points[3] = {-1, 0, 0};
@@ -395,7 +406,7 @@ TEST_CASE("check3d: self-intersection: shared vertex", "[check3d][intersect]") {
 TEST_CASE("check3d: self-intersection: shared edge (folds)", "[check3d][intersect]") {
   auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}}, {{0, 1, 2}, {1, 0, 3}});
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 0);  // flat, opposite sides
-  m.points[3] = {0.5, -1, 0.3};  // a dihedral angle
+  m.points[3] = {0.5, -1, 0.3};                                        // a dihedral angle
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 0);
   m.points[3] = {0.5, 1e-300, 1e-300};  // very sharp dihedral, still not a fold
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 0);
@@ -436,13 +447,15 @@ TEST_CASE("check3d: self-intersection: coplanar, no shared index", "[check3d][in
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 0);  // 1 ulp off the plane
 }
 
-TEST_CASE("check3d: self-intersection: one-ulp perturbations across a plane", "[check3d][intersect]") {
+TEST_CASE("check3d: self-intersection: one-ulp perturbations across a plane",
+          "[check3d][intersect]") {
   // T0 in the plane x + y + z = 1; T1 has its apex p exactly on T0 (dyadic), the other
   // two vertices above the plane.
   const Vec3 p(0.375, 0.25, 0.375);
-  auto m = make_mesh({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, p, {1, 1, 1}, {1, 0.5, 1.5}}, {{0, 1, 2}, {3, 4, 5}});
+  auto m = make_mesh({{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, p, {1, 1, 1}, {1, 0.5, 1.5}},
+                     {{0, 1, 2}, {3, 4, 5}});
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 1);  // touching
-  m.points[3].z = std::nextafter(p.z, 1.0);                           // 1 ulp above
+  m.points[3].z = std::nextafter(p.z, 1.0);                            // 1 ulp above
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 0);
   m.points[3].z = std::nextafter(p.z, 0.0);  // 1 ulp below: pierces
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 1);
@@ -452,7 +465,8 @@ TEST_CASE("check3d: self-intersection: one-ulp perturbations across a plane", "[
   m.points[3].x = std::nextafter(0.625, 1.0);  // just outside the edge, above the plane
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 0);
   // Shared vertex with a far edge touching exactly, then 1 ulp away.
-  m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.5, 0}, {0.5, 0.5, 1}}, {{0, 1, 2}, {0, 3, 4}});
+  m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.5, 0.5, 0}, {0.5, 0.5, 1}},
+                {{0, 1, 2}, {0, 3, 4}});
   // triangle 1 = (0, p3, p4): p3 on the hypotenuse of T0, its edge 0-p3 lies in T0.
   CHECK(surface::find_self_intersections(m).intersecting_pairs == 1);
   m.points[3] = {0.5, 0.5, std::nextafter(0.0, 1.0)};  // lifted by the smallest double
@@ -496,7 +510,8 @@ TEST_CASE("check3d: self-intersection: random soups against brute force", "[chec
     for (std::size_t k = 0; k < r.pairs.size(); ++k) {
       CHECK(surface::triangles_intersect(m, r.pairs[k].t0, r.pairs[k].t1));
       if (k > 0)
-        CHECK(std::make_pair(r.pairs[k - 1].t0, r.pairs[k - 1].t1) < std::make_pair(r.pairs[k].t0, r.pairs[k].t1));
+        CHECK(std::make_pair(r.pairs[k - 1].t0, r.pairs[k - 1].t1) <
+              std::make_pair(r.pairs[k].t0, r.pairs[k].t1));
     }
     // Same answer with one thread and a short report.
     const auto r1 = surface::find_self_intersections(m, 10, 1);
@@ -504,7 +519,8 @@ TEST_CASE("check3d: self-intersection: random soups against brute force", "[chec
     CHECK(r1.candidate_pairs == r.candidate_pairs);
     REQUIRE(r1.pairs.size() == std::min<std::size_t>(10, brute));
     for (std::size_t k = 0; k < r1.pairs.size(); ++k) CHECK(r1.pairs[k].t0 == r.pairs[k].t0);
-    INFO("trial " << trial << ": " << brute << " intersecting pairs of " << r.candidate_pairs << " candidates");
+    INFO("trial " << trial << ": " << brute << " intersecting pairs of " << r.candidate_pairs
+                  << " candidates");
     CHECK(brute > 0);
   }
 }
@@ -512,7 +528,8 @@ TEST_CASE("check3d: self-intersection: random soups against brute force", "[chec
 // Independent floating-point reference for generic inputs: segment PQ pierces triangle
 // ABC (plane distances and barycentric signs). `margin` is set to false when any
 // quantity is too close to zero for doubles to be trusted; such samples are skipped.
-bool naive_pierce(const Vec3& P, const Vec3& Q, const Vec3& A, const Vec3& B, const Vec3& C, bool& margin) {
+bool naive_pierce(const Vec3& P, const Vec3& Q, const Vec3& A, const Vec3& B, const Vec3& C,
+                  bool& margin) {
   const Vec3 n = glm::cross(B - A, C - A);
   const double s = glm::length(n) * std::max(glm::length(P - A), glm::length(Q - A));
   const double dP = glm::dot(n, P - A), dQ = glm::dot(n, Q - A);
@@ -558,7 +575,8 @@ TEST_CASE("check3d: self-intersection: generic random pairs against a floating-p
   CHECK(hits > 1000);
 }
 
-TEST_CASE("check3d: self-intersection: a closed torus is clean; a pushed vertex is found", "[check3d][intersect]") {
+TEST_CASE("check3d: self-intersection: a closed torus is clean; a pushed vertex is found",
+          "[check3d][intersect]") {
   auto m = uv_torus(2.0, 0.5, 120, 60);
   const auto topo = surface::check_topology(m);
   CHECK(topo.watertight());
@@ -625,8 +643,15 @@ TEST_CASE("check3d: quality: equilateral and right isosceles", "[check3d][qualit
 
 TEST_CASE("check3d: quality: bad triangles away from model vertices", "[check3d][quality]") {
   // Two slivers; the first touches a model vertex (point 0), the second does not.
-  auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.05, 0}, {5, 0, 0}, {6, 0, 0}, {5.5, 0.01, 0},
-                      {0, 2, 0}, {1, 2, 0}, {0.5, 2 + std::sqrt(0.75), 0}},
+  auto m = make_mesh({{0, 0, 0},
+                      {1, 0, 0},
+                      {0.5, 0.05, 0},
+                      {5, 0, 0},
+                      {6, 0, 0},
+                      {5.5, 0.01, 0},
+                      {0, 2, 0},
+                      {1, 2, 0},
+                      {0.5, 2 + std::sqrt(0.75), 0}},
                      {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
   m.triangle_face = {1, 2, 3};
   m.point_dim[0] = 0;
@@ -645,7 +670,9 @@ TEST_CASE("check3d: quality: bad triangles away from model vertices", "[check3d]
 TEST_CASE("check3d: edge lengths: unit share and histogram", "[check3d][edges]") {
   auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
   auto len = [&](double s) {
-    return [&m, s](surface::NodeId a, surface::NodeId b) { return s * glm::length(m.points[a] - m.points[b]); };
+    return [&m, s](surface::NodeId a, surface::NodeId b) {
+      return s * glm::length(m.points[a] - m.points[b]);
+    };
   };
   auto r = surface::measure_edge_lengths(m, len(1.0));
   CHECK(r.edges == 5);
@@ -672,7 +699,8 @@ TEST_CASE("check3d: edge lengths: unit share and histogram", "[check3d][edges]")
 // Chordal deviation
 // =======================================================================================
 
-TEST_CASE("check3d: chordal: octahedron inscribed in a sphere gives the known sagitta", "[check3d][chordal]") {
+TEST_CASE("check3d: chordal: octahedron inscribed in a sphere gives the known sagitta",
+          "[check3d][chordal]") {
   const double R = 2.0;
   auto m = octahedron(R);
   const double h = kPi / 2;
@@ -680,18 +708,25 @@ TEST_CASE("check3d: chordal: octahedron inscribed in a sphere gives the known sa
   // the triangle between +y... and +x on the seam side uses u = 2 pi.
   auto uv_of = [&](surface::NodeId id, double umid, bool seam) -> Vec2 {
     switch (id) {
-      case 0: return {seam ? 2 * kPi : 0.0, 0.0};
-      case 2: return {h, 0.0};
-      case 1: return {kPi, 0.0};
-      case 3: return {3 * h, 0.0};
-      case 4: return {umid, h};
-      default: return {umid, -h};
+      case 0:
+        return {seam ? 2 * kPi : 0.0, 0.0};
+      case 2:
+        return {h, 0.0};
+      case 1:
+        return {kPi, 0.0};
+      case 3:
+        return {3 * h, 0.0};
+      case 4:
+        return {umid, h};
+      default:
+        return {umid, -h};
     }
   };
   for (const auto& t : m.triangles) {
     double umin = 1e9, umax = -1e9;
     bool seam = false;
-    for (auto id : t) if (id == 3) seam = true;
+    for (auto id : t)
+      if (id == 3) seam = true;
     for (auto id : t)
       if (id < 4) {
         const double u = uv_of(id, 0, seam).x;
@@ -719,11 +754,13 @@ TEST_CASE("check3d: chordal: octahedron inscribed in a sphere gives the known sa
   CHECK(glm::length(glm::cross(r.worst.foot, r.worst.x)) == Approx(0.0).margin(1e-9));
 }
 
-TEST_CASE("check3d: chordal: fine sphere and torus against the analytic distance", "[check3d][chordal]") {
+TEST_CASE("check3d: chordal: fine sphere and torus against the analytic distance",
+          "[check3d][chordal]") {
   SECTION("sphere") {
     const double R = 3.0;
     const auto m = uv_sphere(R, 48, 24);
-    const auto model = one_face_model(geom::make_sphere(geom::Frame{}, R), geom::SurfaceKind::Sphere);
+    const auto model =
+        one_face_model(geom::make_sphere(geom::Frame{}, R), geom::SurfaceKind::Sphere);
     const auto r = surface::measure_chordal(m, model, 2);
     // Distance of an inner point x to the sphere: R - |x|.
     double emax = 0, esum = 0;
@@ -746,7 +783,8 @@ TEST_CASE("check3d: chordal: fine sphere and torus against the analytic distance
   SECTION("torus") {
     const double R = 2.0, rr = 0.6;
     const auto m = uv_torus(R, rr, 64, 24);
-    const auto model = one_face_model(geom::make_torus(geom::Frame{}, R, rr), geom::SurfaceKind::Torus);
+    const auto model =
+        one_face_model(geom::make_torus(geom::Frame{}, R, rr), geom::SurfaceKind::Torus);
     const auto r = surface::measure_chordal(m, model, 0);
     double emax = 0;
     for (const auto& t : m.triangles) {
@@ -761,7 +799,8 @@ TEST_CASE("check3d: chordal: fine sphere and torus against the analytic distance
   }
 }
 
-TEST_CASE("check3d: chordal: projection from a poor start, and skipped triangles", "[check3d][chordal]") {
+TEST_CASE("check3d: chordal: projection from a poor start, and skipped triangles",
+          "[check3d][chordal]") {
   const auto s = geom::make_sphere(geom::Frame{}, 1.0);
   // Start far from the foot point and near a pole.
   const Vec3 x = Vec3(0.3, 0.4, 0.5);
@@ -775,4 +814,28 @@ TEST_CASE("check3d: chordal: projection from a poor start, and skipped triangles
   auto m = octahedron();
   const auto model = one_face_model(s, geom::SurfaceKind::Sphere);
   CHECK(surface::measure_chordal(m, model).skipped_triangles == 8);  // no triangle_uv
+}
+
+TEST_CASE("check3d: chordal: projection converges below the noise of the squared distance",
+          "[check3d][chordal]") {
+  // A point 3.5e-5 off a cylinder far from the origin, the start a little off: a start
+  // 1e-10 off in u is a tangential residual of 7.5e-10, well above the tolerances, whose
+  // removal gains less than the rounding noise of |sigma - x|^2 (about 2 d |x| eps): the
+  // step must be accepted on the tangential residual, not rejected as "no decrease".
+  geom::Frame f = geom::Frame::from_axis({100.0, 200.0, 300.0}, glm::normalize(Vec3(1, 2, 3)));
+  const auto cyl = geom::make_cylinder(f, 7.5, {0.0, 5.0});
+  int n = 0;
+  for (double u0 = 0.1; u0 < 6.2; u0 += 0.37)
+    for (double d : {3.5e-5, 1e-7, 0.0})
+      for (double du : {1e-6, 1e-10, -3e-10}) {
+        const auto e = cyl->eval(u0, 1.2);
+        const Vec3 x = e.p + d * e.normal();
+        const auto p =
+            surface::project_to_surface(*cyl, x, Vec2(u0 + du, 1.2), cyl->bounds(), 0.07);
+        INFO("u0 " << u0 << " d " << d << " iterations " << p.iterations);
+        CHECK(p.converged);
+        CHECK(p.distance == Approx(d).margin(1e-11));
+        ++n;
+      }
+  CHECK(n > 100);
 }

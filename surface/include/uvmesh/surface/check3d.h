@@ -5,8 +5,9 @@
 //   surface::TopologyReport t = surface::check_topology(mesh);
 //   bool watertight = t.free_edges == 0 && t.non_manifold_edges == 0;
 //   surface::IntersectionReport x = surface::find_self_intersections(mesh);
-//   surface::QualityReport q = surface::measure_quality(mesh);   // q.Q_max, q.bad_away_from_corners
-//   surface::ChordalReport c = surface::measure_chordal(mesh, model, /*threads=*/0);
+//   surface::QualityReport q = surface::measure_quality(mesh);   // q.Q_max,
+//   q.bad_away_from_corners surface::ChordalReport c = surface::measure_chordal(mesh, model,
+//   /*threads=*/0);
 //
 // Conventions
 //   * Triangles whose indices repeat (a a b) or are out of range are "degenerate by
@@ -49,10 +50,10 @@ struct ClosePair {
 };
 
 struct ClosePointsReport {
-  double tolerance = 0;     ///< absolute: rel_tol * bounding-box diagonal
-  std::size_t pairs = 0;    ///< pairs of distinct points with distance < tolerance (or == 0)
+  double tolerance = 0;         ///< absolute: rel_tol * bounding-box diagonal
+  std::size_t pairs = 0;        ///< pairs of distinct points with distance < tolerance (or == 0)
   std::vector<ClosePair> list;  ///< the first max_list pairs in (a, b) order
-  double min_distance = 0;  ///< smallest distance among all close pairs (0 when none)
+  double min_distance = 0;      ///< smallest distance among all close pairs (0 when none)
 };
 
 /// Pairs of distinct points closer than rel_tol times the bounding-box diagonal of
@@ -82,8 +83,8 @@ struct TopologyReport {
   long long euler_characteristic = 0;
 
   std::vector<EdgeIssue> free_list, non_manifold_list, inconsistent_list;  // capped
-  std::vector<TriId> degenerate_list;                                       // capped
-  std::vector<NodeId> unreferenced_list;                                    // capped
+  std::vector<TriId> degenerate_list;                                      // capped
+  std::vector<NodeId> unreferenced_list;                                   // capped
   ClosePointsReport close_points;
 
   /// Closed 2-manifold, consistently oriented, nothing degenerate.
@@ -174,9 +175,9 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list = 100);
 // ---------------------------------------------------------------------------------------
 
 struct EdgeLengthReport {
-  std::size_t edges = 0;   ///< unique edges of the valid triangles
-  std::size_t unit = 0;    ///< with length in [1/sqrt2, sqrt2]
-  double unit_share = 0;   ///< unit / edges
+  std::size_t edges = 0;                        ///< unique edges of the valid triangles
+  std::size_t unit = 0;                         ///< with length in [1/sqrt2, sqrt2]
+  double unit_share = 0;                        ///< unit / edges
   std::size_t short_edges = 0, long_edges = 0;  ///< below / above that interval
   double min = 0, max = 0, mean = 0;
   /// Histogram on a log2 scale, bins of half an octave: bin i covers
@@ -206,15 +207,17 @@ struct Projection {
 /// Closest point of s to x near uv0: Newton on |sigma(u,v) - x|^2 (second derivatives;
 /// Levenberg-Marquardt damping on the first fundamental form where the Hessian is not
 /// positive definite, e.g. at poles), backtracking line search, bound constraints on
-/// `box` (active set). `scale` is a length of the problem (e.g. the triangle size): the
-/// iteration stops when a step moves sigma by less than 1e-10 scale.
+/// `box` (active set). `scale` is a length of the problem (e.g. the triangle size), tol =
+/// 1e-10 scale. Converged: the distance is below tol, or a full Newton step moves sigma
+/// by less than tol, or along every free direction (one not blocked by a bound) the
+/// residual's tangential component is below 1e-6 |residual| + tol.
 Projection project_to_surface(const geom::Surface& s, const geom::Vec3& x, geom::Vec2 uv0,
                               const geom::Box2& box, double scale, int max_iter = 30);
 
 struct ChordalSample {
   TriId triangle = -1;
   geom::Id face = geom::kNone;
-  int which = 0;  ///< 0: centroid, 1: midpoint of corners 0-1, 2: 1-2, 3: 2-0
+  int which = 0;                   ///< 0: centroid, 1: midpoint of corners 0-1, 2: 1-2, 3: 2-0
   geom::Vec3 x{0.0, 0.0, 0.0};     ///< the sample on the flat triangle
   geom::Vec3 foot{0.0, 0.0, 0.0};  ///< its projection on the surface
   geom::Vec2 uv{0.0, 0.0};
