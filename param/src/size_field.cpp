@@ -128,8 +128,33 @@ FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, cons
       pts.push_back(s_.point(u, v));
       grid_.push_back(surface_metric(s_, u, v, spec_, face));
     }
-  std::vector<std::pair<int, int>> edges;
   auto id = [&](int i, int j) { return i * n_ + j; };
+  // At a singular node (pole, cone apex) the curvature is undefined and surface_metric
+  // falls back to hmax. A pole of a smooth surface has the curvature of its
+  // neighbourhood, while a cone's apex is a true singularity where the curvature radius
+  // goes to 0: the node takes the metric of its neighbour toward the box centre, halved
+  // in size, so the fan of triangles around the apex stays close to the surface.
+  {
+    std::vector<char> singular(grid_.size(), 0);
+    for (int i = 0; i < n_; ++i)
+      for (int j = 0; j < n_; ++j) {
+        const double u = box_.u.at(double(i) / (n_ - 1)), v = box_.v.at(double(j) / (n_ - 1));
+        singular[static_cast<std::size_t>(id(i, j))] = s_.eval(u, v).normal() == geom::Vec3(0.0);
+      }
+    const int c = (n_ - 1) / 2;
+    for (int i = 0; i < n_; ++i)
+      for (int j = 0; j < n_; ++j) {
+        if (!singular[static_cast<std::size_t>(id(i, j))]) continue;
+        int a = i, b = j;
+        for (int step = 0; step < n_ && singular[static_cast<std::size_t>(id(a, b))]; ++step) {
+          a += (c > a) - (c < a);
+          b += (c > b) - (c < b);
+        }
+        if (!singular[static_cast<std::size_t>(id(a, b))])
+          grid_[static_cast<std::size_t>(id(i, j))] = grid_[static_cast<std::size_t>(id(a, b))] * 4.0;
+      }
+  }
+  std::vector<std::pair<int, int>> edges;
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) {
       if (i + 1 < n_) edges.emplace_back(id(i, j), id(i + 1, j));

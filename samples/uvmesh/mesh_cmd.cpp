@@ -297,6 +297,9 @@ int run_mesh(const MeshFlags& f) {
     for (const auto& ff : r.failed) failed.push_back({{"face", ff.face}, {"reason", ff.reason}});
     j["failed_faces"] = failed;
     j["warnings"] = r.warnings;
+    nlohmann::json tw = nlohmann::json::array();
+    for (const auto& [a, b] : r.twins) tw.push_back({{"face", a}, {"meshed_as", b}});
+    j["coincident_faces"] = tw;
     sec["checks"] = since(t0);
     sec["total"] = since(t_all);
     j["seconds"] = sec;

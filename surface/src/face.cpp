@@ -4,6 +4,7 @@
 // back through sigma and the mesh is improved in 3D.
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include "internal.h"
@@ -271,6 +272,29 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     out.stats.moves3d = mv;
   }
 
+  // ---- folds at seams and poles: near a cone apex the (u,v) strip is so narrow in the
+  // metric that a vertex can see a seam node on both sides of the period; the two
+  // triangles it then makes are one 3D triangle with both orientations (a zero-volume
+  // fold). Removing the pair leaves the surrounding fan manifold.
+  {
+    auto node = [&](int v) { return lm.global[v] >= 0 ? static_cast<std::int64_t>(lm.global[v]) : -1 - static_cast<std::int64_t>(v); };
+    std::map<std::array<std::int64_t, 3>, std::vector<std::size_t>> seen;
+    for (std::size_t t = 0; t < lm.tris.size(); ++t) {
+      std::array<std::int64_t, 3> k{node(lm.tris[t][0]), node(lm.tris[t][1]), node(lm.tris[t][2])};
+      std::sort(k.begin(), k.end());
+      seen[k].push_back(t);
+    }
+    std::vector<char> drop(lm.tris.size(), 0);
+    for (const auto& [k, ts] : seen)
+      if (ts.size() == 2) drop[ts[0]] = drop[ts[1]] = 1;
+    if (std::find(drop.begin(), drop.end(), 1) != drop.end()) {
+      std::size_t w = 0;
+      for (std::size_t t = 0; t < lm.tris.size(); ++t)
+        if (!drop[t]) lm.tris[w++] = lm.tris[t];
+      lm.tris.resize(w);
+    }
+  }
+
   // ---- unit edges, measured in this face's metric (the field scaled as mesher2d did).
   {
     std::vector<param::Metric3> m3(nv);
@@ -297,8 +321,12 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   }
 
   // ---- the face's contribution: interior points renumbered -(k+1) in local order.
-  std::vector<NodeId> ref(nv);
+  std::vector<NodeId> ref(nv, 0);
+  std::vector<char> used(nv, 0);
+  for (const auto& t : lm.tris)
+    for (int v : t) used[static_cast<std::size_t>(v)] = 1;
   for (std::size_t v = 0; v < nv; ++v) {
+    if (!used[v]) continue;  // e.g. the tip of a removed fold
     if (lm.global[v] >= 0) {
       ref[v] = lm.global[v];
       if (lm.scale[v] > 1.0) out.boundary_scale.emplace_back(lm.global[v], lm.scale[v]);

@@ -9,10 +9,12 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numbers>
 
 #include "internal.h"
+#include "uvmesh/surface/check3d.h"
 
 namespace uvmesh::surface {
 
@@ -94,6 +96,48 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       face_error[f] = "the surface could not be evaluated on its parameter box";
     }
   });
+  // Coincident faces: an assembly written without imprinting often gives the interface
+  // between two solids twice, as two faces on the same edges and the same surface. Both
+  // meshed would put two different triangulations on one surface (intersecting, and
+  // rejected by TetGen as duplicated facets); the interface is meshed once, as the first
+  // face, which then bounds both solids (as Gmsh's conformal fragments do).
+  std::vector<geom::Id> twin_of(nf, geom::kNone);
+  {
+    std::map<std::vector<geom::Id>, std::vector<std::size_t>> by_edges;
+    for (std::size_t f = 0; f < nf; ++f) {
+      if (!face_error[f].empty()) continue;
+      std::vector<geom::Id> k;
+      for (const geom::Loop& l : m.faces[f].loops)
+        for (const geom::EdgeUse& u : l.uses) k.push_back(u.edge);
+      std::sort(k.begin(), k.end());
+      k.erase(std::unique(k.begin(), k.end()), k.end());
+      if (!k.empty()) by_edges[k].push_back(f);
+    }
+    const double tol = 1e-6 * std::max(m.bbox.diagonal(), 1e-300);
+    for (const auto& [k, fs] : by_edges)
+      for (std::size_t i = 1; i < fs.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j) {
+          const geom::Face &a = m.faces[fs[j]], &b = m.faces[fs[i]];
+          if (twin_of[fs[j]] != geom::kNone) continue;
+          bool same = a.kind == geom::SurfaceKind::Plane && b.kind == geom::SurfaceKind::Plane;
+          if (!same) {
+            // Same edges but two different surfaces (a lens): compare an inside point.
+            try {
+              const geom::Vec3 p = a.surface->point(a.uv_box.u.mid(), a.uv_box.v.mid());
+              const Projection pr = project_to_surface(*b.surface, p, {b.uv_box.u.mid(), b.uv_box.v.mid()}, b.uv_box,
+                                                       std::max(a.tol, tol));
+              same = pr.converged && pr.distance <= std::max(10 * std::max(a.tol, b.tol), tol);
+            } catch (...) {
+              same = false;
+            }
+          }
+          if (same) {
+            twin_of[fs[i]] = static_cast<geom::Id>(fs[j]);
+            res.twins.push_back({static_cast<geom::Id>(fs[i]), static_cast<geom::Id>(fs[j])});
+            break;
+          }
+        }
+  }
   std::vector<const param::FaceSizeField*> field_ptr(nf);
   for (std::size_t f = 0; f < nf; ++f) field_ptr[f] = fields[f].get();
   res.stages.push_back({"size fields", seconds_since(t0)});
@@ -154,7 +198,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   std::atomic<int> done{0};
   const std::vector<geom::Vec3>& node_points = M.points;
   parallel_indices(arena, nf, [&](std::size_t f) {
-    if (!face_error[f].empty()) return;
+    if (!face_error[f].empty() || twin_of[f] != geom::kNone) return;
     const auto tf = Clock::now();
     try {
       fm[f] = detail::mesh_face(m, static_cast<geom::Id>(f), edges, node_points, *fields[f], opt);
@@ -182,6 +226,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       fm[f] = {};
       continue;
     }
+    if (twin_of[f] != geom::kNone) continue;
     detail::FaceMesh& F = fm[f];
     const auto base = static_cast<NodeId>(M.points.size());
     for (std::size_t k = 0; k < F.points.size(); ++k) {

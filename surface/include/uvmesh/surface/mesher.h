@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uvmesh/geom/model.h"
@@ -36,7 +37,7 @@ struct MeshOptions {
   int optimize3d_passes = 4;
   /// The chordal tolerance the user asked for is divided by this before it sizes
   /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
-  double chordal_safety = 3.5;
+  double chordal_safety = 4.0;
   int min_segments_closed_edge = 3;
   /// Called after each face, from the worker thread that meshed it (so it must be
   /// thread-safe): faces done so far, total faces.
@@ -76,6 +77,9 @@ struct MeshResult {
   std::vector<FaceStats> faces;
   std::vector<Stage> stages;
   std::vector<std::string> warnings;
+  /// Coincident faces (same edges, same surface): {face, the face meshed for it}. The
+  /// first is not meshed; the second's triangles stand for both.
+  std::vector<std::pair<geom::Id, geom::Id>> twins;
   /// The 3D metric the mesh was built for, at every point (the finest of the faces
   /// around a boundary point): for unit-edge measures.
   std::vector<param::Metric3> point_metric;
