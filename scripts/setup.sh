@@ -7,10 +7,9 @@ cd "$here"
 ./scripts/install-deps.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j"$jobs" --target uvmesh2d
+cmake --build build -j"$jobs" --target uvmesh2d uvmesh
 mkdir -p out
-# The main job (issue 2): mesh the bundled square-with-a-hole at uniform size, write the
-# mesh (Medit and Gmsh) and an SVG picture, print the JSON record.
-./build/samples/uvmesh2d/uvmesh2d samples/data/square_hole.poly --size 0.02 \
-  -o out/square_hole.mesh -o out/square_hole.msh -o out/square_hole.svg --json
-echo "wrote out/square_hole.mesh out/square_hole.msh out/square_hole.svg"
+# The main job: mesh the bundled L-bracket (STEP AP214, mm; made by samples/make_bracket)
+# with the default sizes, write the mesh (Gmsh 4.1) and its JSON report.
+./build/samples/uvmesh/uvmesh mesh samples/data/bracket.step -o out/bracket.msh --report out/bracket.json
+echo "wrote out/bracket.msh out/bracket.json"
