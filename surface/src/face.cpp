@@ -210,6 +210,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       const auto e0 = pedge[static_cast<std::size_t>(r.status.entities[0])];
       const auto e1 = pedge[static_cast<std::size_t>(r.status.entities[1])];
       msg = "the (u,v) curves of edges " + std::to_string(e0) + " and " + std::to_string(e1) + " cross (" + msg + ")";
+      out.refine_edges = {e0, e1};
     }
     out.error = "2D mesher: " + msg;
     return out;

@@ -53,6 +53,8 @@ struct FaceMesh {
   std::vector<std::array<NodeId, 3>> tris;
   std::vector<std::array<geom::Vec2, 3>> tri_uv;
   std::string error;  ///< non-empty: the face failed, with the reason
+  /// Edges whose (u,v) polylines crossed: refining them may let the face mesh.
+  std::vector<geom::Id> refine_edges;
   FaceStats stats;
 };
 

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <set>
 
 #include "internal.h"
 #include "uvmesh/surface/check3d.h"
@@ -160,8 +161,41 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   for (const auto& w : edge_error)
     if (!w.empty()) res.warnings.push_back(w);
 
-  // Global numbering (surface_mesh.h): model vertices, then edge interiors in order.
+  // Every loop needs at least 3 nodes to enclose anything in (u,v): a face bounded by
+  // two one-segment edges (a lens) gets its longest edge split.
+  auto split_edge = [&](std::size_t e) {
+    auto& t = edges[e].t;
+    std::vector<double> nt;
+    for (std::size_t i = 0; i + 1 < t.size(); ++i) nt.push_back(t[i]), nt.push_back(0.5 * (t[i] + t[i + 1]));
+    nt.push_back(t.back());
+    t.swap(nt);
+  };
+  for (const geom::Face& face : m.faces)
+    for (const geom::Loop& l : face.loops) {
+      for (int guard = 0; guard < 4; ++guard) {
+        std::size_t nodes = 0, longest = 0;
+        double best = -1;
+        for (const geom::EdgeUse& u : l.uses) {
+          const auto e = static_cast<std::size_t>(u.edge);
+          nodes += m.edges[e].degenerate ? 1 : edges[e].t.size() - 1;
+          if (!m.edges[e].degenerate && m.edges[e].length > best) best = m.edges[e].length, longest = e;
+        }
+        if (nodes >= 3 || best < 0) break;
+        split_edge(longest);
+      }
+    }
+
+  // Curves and faces, repeated when a face's (u,v) boundary crossed itself: the edges
+  // named are refined (their (u,v) polylines then follow the pcurves more closely) and
+  // the model is meshed again -- edge nodes are shared, so every face must see them.
+  const std::vector<std::string> pre_error = face_error;
+  std::vector<detail::FaceMesh> fm(nf);
+  double t_faces = 0;
   SurfaceMesh& M = res.mesh;
+  for (int round = 0;; ++round) {
+  face_error = pre_error;
+  M = {};
+  // Global numbering (surface_mesh.h): model vertices, then edge interiors in order.
   auto add_point = [&](const geom::Vec3& p, int dim, geom::Id ent, double t) {
     M.points.push_back(p);
     M.point_dim.push_back(static_cast<std::int8_t>(dim));
@@ -190,11 +224,11 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     en.node.back() = ed.v1 == ed.v0 && ed.v0 == geom::kNone ? en.node.front() : end_node(ed.v1, en.t.back());
     for (std::size_t i = 0; i + 1 < n; ++i) M.segments.push_back({en.node[i], en.node[i + 1], static_cast<geom::Id>(e)});
   }
-  res.stages.push_back({"curves", seconds_since(t0)});
+  if (round == 0) res.stages.push_back({"curves", seconds_since(t0)});
 
   // ---- 2. faces, in parallel; each face only touches its own surface and pcurves.
   t0 = Clock::now();
-  std::vector<detail::FaceMesh> fm(nf);
+  fm.assign(nf, {});
   std::atomic<int> done{0};
   const std::vector<geom::Vec3>& node_points = M.points;
   parallel_indices(arena, nf, [&](std::size_t f) {
@@ -212,7 +246,16 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     const int d = ++done;
     if (opt.progress) opt.progress(d, static_cast<int>(nf));
   });
-  res.stages.push_back({"faces", seconds_since(t0)});
+  t_faces += seconds_since(t0);
+  std::set<geom::Id> refine;
+  for (const auto& F : fm) refine.insert(F.refine_edges.begin(), F.refine_edges.end());
+  if (refine.empty() || round == 3) break;
+  for (geom::Id e : refine)
+    if (!m.edges[static_cast<std::size_t>(e)].degenerate) split_edge(static_cast<std::size_t>(e));
+  res.warnings.push_back("round " + std::to_string(round + 1) + ": " + std::to_string(refine.size()) +
+                         " edge(s) refined where (u,v) boundaries crossed; model meshed again");
+  }
+  res.stages.push_back({"faces", t_faces});
 
   // ---- 3. stitch: face points appended in face order; triangles refer to global ids.
   t0 = Clock::now();
