@@ -78,7 +78,7 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   CLI::App* c = app.add_subcommand(
       "mesh",
       "mesh a CAD model into one conforming surface mesh.\n"
-      "Defaults (D = bounding-box diagonal): --hmax D/20, --hmin D/5000, --angle 18 (20 elements\n"
+      "Defaults (D = bounding-box diagonal): --hmax D/20, --hmin D/1000, --angle 18 (20 elements\n"
       "per 2 pi), --chordal D/1000, --grad 1.3, isotropic sizes. Giving --angle or --chordal\n"
       "replaces both curvature defaults (the other is then off unless also given).");
   add_read_flags(c, f.read);

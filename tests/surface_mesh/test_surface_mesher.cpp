@@ -181,6 +181,7 @@ TEST_CASE("dev: mesh one model from UVMESH_DEV_MODEL", "[.dev]") {
   const geom::Model m = load(path);
   surface::MeshOptions o = defaults(m, 0);
   if (const char* th = std::getenv("UVMESH_DEV_THREADS")) o.threads = std::atoi(th);
+  if (std::getenv("UVMESH_DEV_NOOPT")) o.optimize3d = false;
   if (const char* a = std::getenv("UVMESH_DEV_ANGLE")) {  // the benchmark's settings: D/40, angle
     o.size.hmax = m.bbox.diagonal() / 40;
     o.size.chordal_tol = 0;
@@ -202,6 +203,11 @@ TEST_CASE("dev: mesh one model from UVMESH_DEV_MODEL", "[.dev]") {
     WARN("non-manifold " << e.a << "(dim " << int(r.mesh.point_dim[e.a]) << ") " << e.b << "(dim "
                          << int(r.mesh.point_dim[e.b]) << ")" << s);
   }
+  const auto q = surface::measure_quality(r.mesh, 5);
+  WARN("Q<1.5 " << q.share_Q_lt_1_5 << " Qmax " << q.Q_max << " bad away " << q.bad_away_from_corners
+                << " unit " << r.unit_edge_share());
+  for (const auto& b : q.bad_list) WARN("bad Q " << b.Q << " face " << b.face << " kind "
+                                                 << geom::to_string(m.faces[b.face].kind));
   for (auto v : t.unreferenced_list) WARN("unreferenced " << v << " dim " << int(r.mesh.point_dim[v]));
   for (const auto& f : r.faces)
     WARN("face " << f.face << " nb " << f.boundary_nodes << " tris " << f.triangles << " s " << f.seconds);

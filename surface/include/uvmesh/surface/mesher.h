@@ -44,7 +44,7 @@ struct MeshOptions {
   std::function<void(int, int)> progress;
 };
 
-/// Defaults relative to the bounding-box diagonal D: hmax = D/20, hmin = D/5000,
+/// Defaults relative to the bounding-box diagonal D: hmax = D/20, hmin = D/1000,
 /// curvature angle 18 degrees (20 elements per 2 pi), chordal tolerance D/1000,
 /// gradation 1.3.
 param::SizeSpec default_size(const geom::Model& m);
