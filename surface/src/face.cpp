@@ -311,8 +311,9 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
         // runs a < b; a boundary edge has one triangle here, count it always.
         const geom::Vec3 d = lm.p[b] - lm.p[a];
         const double la = metric_at(a).length(d), lb = metric_at(b).length(d);
-        const double r = la > 0 ? lb / la : 1.0;
-        const double L = (std::abs(r - 1) < 1e-3 || !(r > 0)) ? 0.5 * (la + lb) : (lb - la) / std::log(r);
+        const double ratio = la > 0 ? lb / la : 1.0;
+        const double L =
+            (std::abs(ratio - 1) < 1e-3 || !(ratio > 0)) ? 0.5 * (la + lb) : (lb - la) / std::log(ratio);
         if (a > b && !(lm.fixed[a] && lm.fixed[b])) continue;
         ++out.stats.edges;
         if (L < std::sqrt(0.5)) ++out.stats.short_edges;
@@ -330,12 +331,10 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     if (!used[v]) continue;  // e.g. the tip of a removed fold
     if (lm.global[v] >= 0) {
       ref[v] = lm.global[v];
-      if (lm.scale[v] > 1.0) out.boundary_scale.emplace_back(lm.global[v], lm.scale[v]);
     } else {
       ref[v] = -static_cast<NodeId>(out.points.size()) - 1;
       out.points.push_back(lm.p[v]);
       out.uv.push_back(lm.uv[v]);
-      out.scale.push_back(lm.scale[v]);
     }
   }
   out.tris.reserve(lm.tris.size());

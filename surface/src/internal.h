@@ -45,11 +45,6 @@ struct EdgeNodes {
 struct FaceMesh {
   std::vector<geom::Vec3> points;  ///< interior points
   std::vector<geom::Vec2> uv;      ///< their (u,v)
-  /// Per interior point: the factor by which mesher2d scaled the field's metric there
-  /// (sizes from the boundary, Options::boundary_gradation); 1 = the field itself.
-  std::vector<double> scale;
-  /// The same for the boundary corners of each triangle (global nodes), as pairs.
-  std::vector<std::pair<NodeId, double>> boundary_scale;
   std::vector<std::array<NodeId, 3>> tris;
   std::vector<std::array<geom::Vec2, 3>> tri_uv;
   std::string error;  ///< non-empty: the face failed, with the reason

@@ -54,15 +54,6 @@ void parallel_indices(tbb::task_arena& arena, std::size_t n, F&& f) {
 
 }  // namespace
 
-double MeshResult::metric_length(NodeId a, NodeId b) const {
-  const geom::Vec3 d = mesh.points[static_cast<std::size_t>(b)] - mesh.points[static_cast<std::size_t>(a)];
-  const double la = point_metric[static_cast<std::size_t>(a)].length(d);
-  const double lb = point_metric[static_cast<std::size_t>(b)].length(d);
-  const double r = la > 0 ? lb / la : 1.0;
-  if (std::abs(r - 1) < 1e-3 || !(r > 0)) return 0.5 * (la + lb);
-  return (lb - la) / std::log(r);  // eq. 7.10 with a geometric size progression
-}
-
 double MeshResult::unit_edge_share() const {
   std::int64_t e = 0, u = 0;
   for (const FaceStats& f : faces) e += f.edges, u += f.unit_edges;
@@ -260,10 +251,6 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
 
   // ---- 3. stitch: face points appended in face order; triangles refer to global ids.
   t0 = Clock::now();
-  std::vector<param::Metric3>& metric = res.point_metric;
-  metric.assign(M.points.size(), param::Metric3::isotropic(spec.hmax));
-  std::vector<char> has_metric(M.points.size(), 0);
-  std::vector<double> boundary_scale(M.points.size(), 1.0);
   for (std::size_t f = 0; f < nf; ++f) {
     if (!face_error[f].empty()) {
       res.failed.push_back({static_cast<geom::Id>(f), face_error[f]});
@@ -274,7 +261,6 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     detail::FaceMesh& F = fm[f];
     const auto base = static_cast<NodeId>(M.points.size());
     for (std::size_t k = 0; k < F.points.size(); ++k) {
-      metric.push_back(fields[f]->metric3(F.uv[k].x, F.uv[k].y) * F.scale[k]);
       M.points.push_back(F.points[k]);
       M.point_dim.push_back(2);
       M.point_entity.push_back(static_cast<geom::Id>(f));
@@ -282,27 +268,14 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     }
     for (std::size_t t = 0; t < F.tris.size(); ++t) {
       std::array<NodeId, 3> g{};
-      for (int i = 0; i < 3; ++i) {
-        g[i] = F.tris[t][i] >= 0 ? F.tris[t][i] : base + (-F.tris[t][i] - 1);
-        if (F.tris[t][i] >= 0) {
-          // A boundary node keeps the finest metric of the faces around it.
-          const param::Metric3 mk = fields[f]->metric3(F.tri_uv[t][i].x, F.tri_uv[t][i].y);
-          param::Metric3& cur = metric[static_cast<std::size_t>(g[i])];
-          if (!has_metric[static_cast<std::size_t>(g[i])] || mk.determinant() > cur.determinant()) cur = mk;
-          has_metric[static_cast<std::size_t>(g[i])] = 1;
-        }
-      }
+      for (int i = 0; i < 3; ++i) g[i] = F.tris[t][i] >= 0 ? F.tris[t][i] : base + (-F.tris[t][i] - 1);
       M.triangles.push_back(g);
       M.triangle_face.push_back(static_cast<geom::Id>(f));
       M.triangle_uv.push_back(F.tri_uv[t]);
     }
-    for (const auto& [g, sc] : F.boundary_scale) boundary_scale[static_cast<std::size_t>(g)] =
-        std::max(boundary_scale[static_cast<std::size_t>(g)], sc);
     res.faces.push_back(F.stats);
     F = {};
   }
-  for (std::size_t i = 0; i < boundary_scale.size(); ++i)
-    if (boundary_scale[i] > 1.0) metric[i] = metric[i] * boundary_scale[i];
   // Model vertices used by nothing (isolated CAD vertices) are dropped so that the mesh
   // has no unreferenced points; ids are compacted in order.
   std::vector<char> used(M.points.size(), 0);
@@ -319,14 +292,12 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
         M.point_dim[static_cast<std::size_t>(k)] = M.point_dim[i];
         M.point_entity[static_cast<std::size_t>(k)] = M.point_entity[i];
         M.point_t[static_cast<std::size_t>(k)] = M.point_t[i];
-        metric[static_cast<std::size_t>(k)] = metric[i];
         ++k;
       }
     M.points.resize(static_cast<std::size_t>(k));
     M.point_dim.resize(static_cast<std::size_t>(k));
     M.point_entity.resize(static_cast<std::size_t>(k));
     M.point_t.resize(static_cast<std::size_t>(k));
-    metric.resize(static_cast<std::size_t>(k));
     for (auto& t : M.triangles)
       for (NodeId& v : t) v = nid[static_cast<std::size_t>(v)];
     for (auto& s : M.segments) s.a = nid[static_cast<std::size_t>(s.a)], s.b = nid[static_cast<std::size_t>(s.b)];

@@ -80,11 +80,6 @@ struct MeshResult {
   /// Coincident faces (same edges, same surface): {face, the face meshed for it}. The
   /// first is not meshed; the second's triangles stand for both.
   std::vector<std::pair<geom::Id, geom::Id>> twins;
-  /// The 3D metric the mesh was built for, at every point (the finest of the faces
-  /// around a boundary point): for unit-edge measures.
-  std::vector<param::Metric3> point_metric;
-  /// Metric length of the segment a-b (eq. 7.10, log-mean of the end metrics).
-  double metric_length(NodeId a, NodeId b) const;
   bool ok() const { return failed.empty(); }
   /// Share of unit edges over all faces (FaceStats::unit_edges / edges).
   double unit_edge_share() const;
