@@ -25,9 +25,9 @@ double curve_size(const geom::CurvePoint3& c, const param::SizeSpec& spec) {
 
 // Scalar density f(t) = metric length of dC/dt: the number of unit edges per unit of
 // parameter. The largest over the curve's own size and every adjacent face's metric.
-double EdgeDiscretizer::density(const geom::Edge& e, geom::Id eid, double t) const {
+double EdgeDiscretizer::density(const geom::Edge& e, geom::Id eid, double t, double& speed) const {
   const geom::CurvePoint3 c = e.curve->eval(t);
-  const double speed = glm::length(c.d1);
+  speed = glm::length(c.d1);
   if (!(speed > 0)) return 0.0;
   double h = curve_size(c, spec_);
   if (auto it = spec_.edge_size.find(eid); it != spec_.edge_size.end()) h = std::min(h, it->second);
@@ -66,12 +66,18 @@ std::vector<double> EdgeDiscretizer::discretize(geom::Id eid) const {
   // feature between samples is not missed (the 1D analogue of eq. 7.10's sampling).
   struct Sample {
     double t, f;
+    double speed;  // |C'(t)|: converts parameter steps to arc length for the gradation
+  };
+  auto sample = [&](double t) {
+    Sample x{t, 0.0, 0.0};
+    x.f = density(e, eid, t, x.speed);
+    return x;
   };
   std::vector<Sample> s;
   const int n0 = 16;
   for (int i = 0; i <= n0; ++i) {
     const double t = lo + (hi - lo) * i / n0;
-    s.push_back({t, density(e, eid, t)});
+    s.push_back(sample(t));
   }
   const std::size_t cap = 20000;
   for (int pass = 0; pass < 12 && s.size() < cap; ++pass) {
@@ -85,7 +91,7 @@ std::vector<double> EdgeDiscretizer::discretize(geom::Id eid) const {
       const double fa = std::max(s[i].f, 1e-300), fb = std::max(s[i + 1].f, 1e-300);
       if ((piece > 0.25 || std::max(fa / fb, fb / fa) > 2.0) && dt > (hi - lo) * 1e-9 && next.size() + s.size() < cap) {
         const double t = 0.5 * (s[i].t + s[i + 1].t);
-        next.push_back({t, density(e, eid, t)});
+        next.push_back(sample(t));
         split = true;
       }
     }
@@ -102,7 +108,7 @@ std::vector<double> EdgeDiscretizer::discretize(geom::Id eid) const {
     for (std::size_t i = 1; i < s.size(); ++i) ds[i] = s[i].t - s[i - 1].t;
     // In parameter units a unit of arc is 1/speed; use the local speed at each sample.
     std::vector<double> speed(s.size());
-    for (std::size_t i = 0; i < s.size(); ++i) speed[i] = std::max(glm::length(e.curve->eval(s[i].t).d1), 1e-300);
+    for (std::size_t i = 0; i < s.size(); ++i) speed[i] = std::max(s[i].speed, 1e-300);
     for (std::size_t i = 1; i < s.size(); ++i)
       if (h[i - 1] > 0 && h[i] > 0)
         h[i] = std::min(h[i], (h[i - 1] * speed[i - 1] + (beta - 1) * ds[i] * speed[i]) / speed[i]);

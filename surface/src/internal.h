@@ -26,7 +26,8 @@ class EdgeDiscretizer {
     geom::Id face;
     const geom::Curve2* pcurve;
   };
-  double density(const geom::Edge& e, geom::Id eid, double t) const;
+  /// Unit edges per unit of parameter at t; `speed` receives |C'(t)|.
+  double density(const geom::Edge& e, geom::Id eid, double t, double& speed) const;
   const geom::Model& m_;
   const param::SizeSpec& spec_;
   const std::vector<const param::FaceSizeField*>& fields_;
