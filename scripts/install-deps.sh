@@ -19,7 +19,11 @@ PKGS=(
   clang libclang-rt-14-dev
   # misc test helpers
   time
+  # browser test of the .glb (issue 6): headless Chromium + three.js served from node_modules
+  chromium nodejs
 )
+# npm: Debian's package, unless a nodejs build that bundles npm (and conflicts with it) is installed
+command -v npm >/dev/null 2>&1 || PKGS+=(npm)
 
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
