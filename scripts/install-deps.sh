@@ -21,6 +21,8 @@ PKGS=(
   time
   # browser test of the .glb (issue 6): headless Chromium + three.js served from node_modules
   chromium nodejs
+  # Draco's scene/glTF headers (draco/scene/trs_matrix.h) include Eigen
+  libeigen3-dev
 )
 # npm: Debian's package, unless a nodejs build that bundles npm (and conflicts with it) is installed
 command -v npm >/dev/null 2>&1 || PKGS+=(npm)
