@@ -1,0 +1,558 @@
+// OpenSubdiv back end of uvmesh::geom: the limit surface of a control cage as a Model
+// (see uvmesh/geom/subd.h for the layout). The only translation unit of geom that
+// includes OpenSubdiv.
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/far/error.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include "uvmesh/geom/analytic.h"
+#include "uvmesh/geom/subd.h"
+
+namespace uvmesh::geom {
+namespace {
+
+namespace Bfr = OpenSubdiv::Bfr;
+namespace Far = OpenSubdiv::Far;
+namespace Sdc = OpenSubdiv::Sdc;
+
+// One base face's limit surface: the Bfr::Surface and its patch points. Shared (read
+// only) by the sub-face patches of an n-gon.
+struct BasePatch {
+  Bfr::Surface<double> s;
+  std::vector<double> points;  // patch points, xyz
+  bool triangle = false;       // Loop: the domain is the triangle u, v >= 0, u + v <= 1
+};
+
+// A patch: base-face coordinates = origin + scale * (u,v) of the patch.
+class SubdSurface final : public Surface {
+ public:
+  SubdSurface(std::shared_ptr<const BasePatch> b, Vec2 origin, double scale)
+      : b_(std::move(b)), o_(origin), k_(scale), regular_(b_->s.IsRegular()) {}
+
+  SurfacePoint eval(double u, double v) const override {
+    // Bfr evaluates inside the face's domain only (irregular patches look the point up
+    // in a quadtree of sub-patches). The mesher and the chordal projection may ask a
+    // little outside (metric grids over the box, line searches): the point is then
+    // extended to first order from the nearest domain point, which keeps sigma
+    // continuous and exact inside.
+    const Vec2 c = clamp({u, v});
+    double P[3], Du[3], Dv[3], Duu[3], Duv[3], Dvv[3];
+    const double uv[2] = {o_.x + k_ * c.x, o_.y + k_ * c.y};
+    b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv, Duu, Duv, Dvv);
+    auto vec = [](const double* a) { return Vec3(a[0], a[1], a[2]); };
+    SurfacePoint e{vec(P), k_ * vec(Du), k_ * vec(Dv), k_ * k_ * vec(Duu), k_ * k_ * vec(Duv), k_ * k_ * vec(Dvv)};
+    if (!regular_) {
+      // Irregular faces end, around extraordinary vertices, in Gregory patches whose
+      // first derivatives from Bfr ignore the rational weights (off by ~0.3% of the
+      // patch size against differences of the positions, measured on catmark_cube).
+      // Tangents must agree with sigma (Newton projections, unit lengths), so they are
+      // differenced from positions, inside the domain; second derivatives only feed
+      // curvature sizes and are kept.
+      e.du = diff(c, e.p, {1.0, 0.0}, e.du);
+      e.dv = diff(c, e.p, {0.0, 1.0}, e.dv);
+    }
+    if (c.x != u || c.y != v) e.p += (u - c.x) * e.du + (v - c.y) * e.dv;
+    return e;
+  }
+  Box2 bounds() const override { return {{0.0, 1.0}, {0.0, 1.0}}; }
+  SurfaceKind kind() const override { return SurfaceKind::Other; }
+  unsigned singular_sides() const override { return sing_; }
+  void set_singular_sides(unsigned s) { sing_ = s; }
+
+ private:
+  bool inside(Vec2 c) const {
+    if (b_->triangle) return c.x >= 0.0 && c.y >= 0.0 && c.x + c.y <= 1.0;
+    return c.x >= 0.0 && c.y >= 0.0 && c.x <= 1.0 && c.y <= 1.0;
+  }
+  Vec2 clamp(Vec2 c) const {
+    if (!b_->triangle) return glm::clamp(c, Vec2(0.0), Vec2(1.0));
+    c = glm::max(c, Vec2(0.0));
+    if (c.x + c.y > 1.0) c = glm::min(glm::max(c - Vec2(0.5 * (c.x + c.y - 1.0)), Vec2(0.0)), Vec2(1.0));
+    return c;
+  }
+  Vec3 pos(Vec2 c) const {
+    const double uv[2] = {o_.x + k_ * c.x, o_.y + k_ * c.y};
+    double P[3];
+    b_->s.Evaluate(uv, b_->points.data(), 3, P);
+    return {P[0], P[1], P[2]};
+  }
+  // Second-order difference along `dir` with a stencil inside the domain (central, else
+  // one-sided); `fallback` where no stencil fits (the acute corners of a triangle).
+  Vec3 diff(Vec2 c, const Vec3& p0, Vec2 dir, const Vec3& fallback) const {
+    // 1e-6 of the unit domain: truncation ~1e-12, rounding ~1e-10 of the patch size.
+    constexpr double h = 1e-6;
+    const Vec2 a = c + h * dir, b = c - h * dir;
+    if (inside(a) && inside(b)) return (pos(a) - pos(b)) / (2 * h);
+    if (inside(a) && inside(c + 2 * h * dir)) return (-3.0 * p0 + 4.0 * pos(a) - pos(c + 2 * h * dir)) / (2 * h);
+    if (inside(b) && inside(c - 2 * h * dir)) return (3.0 * p0 - 4.0 * pos(b) + pos(c - 2 * h * dir)) / (2 * h);
+    return fallback;
+  }
+
+  std::shared_ptr<const BasePatch> b_;
+  Vec2 o_;
+  double k_;
+  bool regular_;
+  unsigned sing_ = 0u;
+};
+
+// The 3D curve of a model edge: the limit surface of one patch along a straight pcurve.
+class CurveOnPatch final : public Curve {
+ public:
+  CurveOnPatch(std::shared_ptr<const Surface> s, std::shared_ptr<const Curve2> pc)
+      : s_(std::move(s)), pc_(std::move(pc)) {}
+  CurvePoint3 eval(double t) const override {
+    const CurvePoint2 c = pc_->eval(t);
+    const SurfacePoint e = s_->eval(c.p.x, c.p.y);
+    const Vec3 d1 = c.d1.x * e.du + c.d1.y * e.dv;
+    const Vec3 d2 = c.d1.x * c.d1.x * e.duu + 2.0 * c.d1.x * c.d1.y * e.duv + c.d1.y * c.d1.y * e.dvv +
+                    c.d2.x * e.du + c.d2.y * e.dv;
+    return {e.p, d1, d2};
+  }
+  Interval range() const override { return pc_->range(); }
+  CurveKind kind() const override { return CurveKind::Other; }
+
+ private:
+  std::shared_ptr<const Surface> s_;
+  std::shared_ptr<const Curve2> pc_;
+};
+
+// OpenSubdiv reports topology problems through process-global callbacks that print by
+// default; library code must not print, so they are collected while a model is built.
+thread_local std::vector<std::string>* g_far_messages = nullptr;
+void far_error(Far::ErrorType, const char* msg) {
+  if (g_far_messages) g_far_messages->push_back(msg ? msg : "");
+}
+void far_warning(const char* msg) {
+  if (g_far_messages) g_far_messages->push_back(msg ? msg : "");
+}
+struct FarMessages {
+  std::vector<std::string> list;
+  FarMessages() {
+    g_far_messages = &list;
+    Far::SetErrorCallback(far_error);
+    Far::SetWarningCallback(far_warning);
+  }
+  ~FarMessages() {
+    Far::SetErrorCallback(nullptr);
+    Far::SetWarningCallback(nullptr);
+    g_far_messages = nullptr;
+  }
+};
+
+std::string line_ref(const SubdCage& c, int line) { return c.source + ":" + std::to_string(line) + ": "; }
+
+// Tag indices are checked here (not in the parser) because OBJ may define vertices
+// after the tags that name them.
+std::string check_tags(const SubdCage& c, const Far::TopologyLevel& lvl) {
+  const int nv = static_cast<int>(c.points.size()), nf = static_cast<int>(c.face_sizes.size());
+  for (const auto& k : c.creases) {
+    if (k.a >= nv || k.b >= nv)
+      return line_ref(c, k.line) + "crease names vertex " + std::to_string(std::max(k.a, k.b)) + " but the cage has " +
+             std::to_string(nv) + " vertices (tag indices are 0-based)";
+    if (lvl.FindEdge(k.a, k.b) < 0)
+      return line_ref(c, k.line) + "crease names vertices " + std::to_string(k.a) + " and " + std::to_string(k.b) +
+             " which share no edge";
+    if (!(k.sharpness >= 0)) return line_ref(c, k.line) + "negative crease sharpness";
+  }
+  for (const auto& k : c.corners) {
+    if (k.v >= nv)
+      return line_ref(c, k.line) + "corner names vertex " + std::to_string(k.v) + " but the cage has " +
+             std::to_string(nv) + " vertices (tag indices are 0-based)";
+    if (!(k.sharpness >= 0)) return line_ref(c, k.line) + "negative corner sharpness";
+  }
+  for (const auto& h : c.holes)
+    if (h.face >= nf)
+      return line_ref(c, h.line) + "hole names face " + std::to_string(h.face) + " but the cage has " +
+             std::to_string(nf) + " faces (tag indices are 0-based)";
+  return {};
+}
+
+// One piece of a base edge (or of a spoke inside an n-gon): a model edge on [t0, t1].
+struct Piece {
+  Id edge = kNone;
+  double t0 = 0, t1 = 1;
+};
+
+}  // namespace
+
+bool have_opensubdiv() { return true; }
+
+SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
+  SubdModelResult r;
+  Model& m = r.model;
+  m.source = cage.source;
+  m.format = "obj";
+  const int nf = static_cast<int>(cage.face_sizes.size());
+
+  // ---- scheme and options
+  const bool all_tris = std::all_of(cage.face_sizes.begin(), cage.face_sizes.end(), [](int n) { return n == 3; });
+  r.scheme = opt.scheme == SubdScheme::Auto ? (all_tris ? SubdScheme::Loop : SubdScheme::CatmullClark) : opt.scheme;
+  const bool loop = r.scheme == SubdScheme::Loop;
+  if (loop)
+    for (int f = 0; f < nf; ++f)
+      if (cage.face_sizes[f] != 3) {
+        r.error = line_ref(cage, cage.face_lines[f]) + "the Loop scheme needs triangles; face " + std::to_string(f) +
+                  " has " + std::to_string(cage.face_sizes[f]) + " vertices";
+        return r;
+      }
+  r.boundary = opt.boundary;
+  if (r.boundary == SubdBoundary::FromFile)
+    r.boundary = cage.interpolate_boundary == 0   ? SubdBoundary::None
+                 : cage.interpolate_boundary == 2 ? SubdBoundary::EdgeAndCorner
+                                                  : SubdBoundary::EdgeOnly;
+  Sdc::Options so;
+  so.SetVtxBoundaryInterpolation(r.boundary == SubdBoundary::None       ? Sdc::Options::VTX_BOUNDARY_NONE
+                                 : r.boundary == SubdBoundary::EdgeOnly ? Sdc::Options::VTX_BOUNDARY_EDGE_ONLY
+                                                                        : Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+  so.SetCreasingMethod(cage.chaikin ? Sdc::Options::CREASE_CHAIKIN : Sdc::Options::CREASE_UNIFORM);
+  // Face-varying data is not used; the default would only matter for texture coordinates.
+
+  // ---- topology (OpenSubdiv decides manifoldness, boundaries and sharpness)
+  std::vector<int> crease_pairs;
+  std::vector<float> crease_w, corner_w;
+  std::vector<int> corner_v, holes;
+  for (const auto& k : cage.creases) crease_pairs.insert(crease_pairs.end(), {k.a, k.b}), crease_w.push_back(k.sharpness);
+  for (const auto& k : cage.corners) corner_v.push_back(k.v), corner_w.push_back(k.sharpness);
+  for (const auto& h : cage.holes) holes.push_back(h.face);
+
+  FarMessages msgs;
+  Far::TopologyDescriptor desc;
+  desc.numVertices = static_cast<int>(cage.points.size());
+  desc.numFaces = nf;
+  desc.numVertsPerFace = cage.face_sizes.data();
+  desc.vertIndicesPerFace = cage.face_verts.data();
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  // Tags are added only once they are known to be valid (a bad index would be read out
+  // of bounds by the factory), so the topology is built twice when there are tags.
+  std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(
+      desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, so)));
+  if (!refiner) {
+    r.error = cage.source + ": OpenSubdiv rejected the cage topology";
+    for (const auto& s : msgs.list) r.error += "; " + s;
+    return r;
+  }
+  if (std::string e = check_tags(cage, refiner->GetLevel(0)); !e.empty()) {
+    r.error = e;
+    return r;
+  }
+  if (!crease_pairs.empty() || !corner_v.empty() || !holes.empty()) {
+    desc.numCreases = static_cast<int>(crease_w.size());
+    desc.creaseVertexIndexPairs = crease_pairs.data();
+    desc.creaseWeights = crease_w.data();
+    desc.numCorners = static_cast<int>(corner_v.size());
+    desc.cornerVertexIndices = corner_v.data();
+    desc.cornerWeights = corner_w.data();
+    desc.numHoles = static_cast<int>(holes.size());
+    desc.holeIndices = holes.data();
+    refiner.reset(Factory::Create(desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, so)));
+    if (!refiner) {
+      r.error = cage.source + ": OpenSubdiv rejected the cage tags";
+      for (const auto& s : msgs.list) r.error += "; " + s;
+      return r;
+    }
+  }
+  for (const auto& s : msgs.list) r.warnings.push_back(cage.source + ": OpenSubdiv: " + s);
+  const Far::TopologyLevel& lvl = refiner->GetLevel(0);
+
+  // ---- limit surfaces of the base faces
+  Bfr::RefinerSurfaceFactory<>::Options fo;
+  fo.SetApproxLevelSmooth(opt.approx_level_smooth);
+  fo.SetApproxLevelSharp(opt.approx_level_sharp);
+  Bfr::RefinerSurfaceFactory<> factory(*refiner, fo);
+  std::vector<std::shared_ptr<BasePatch>> base(nf);
+  for (int f = 0; f < nf; ++f) {
+    const auto fvs = lvl.GetFaceVertices(f);
+    std::vector<int> distinct(fvs.begin(), fvs.end());
+    std::sort(distinct.begin(), distinct.end());
+    if (std::unique(distinct.begin(), distinct.end()) - distinct.begin() < 3) {
+      // Fewer than three distinct vertices: OpenSubdiv keeps it in the topology (it
+      // sharpens its neighbourhood) but it spans no area.
+      r.warnings.push_back(line_ref(cage, cage.face_lines[f]) + "face " + std::to_string(f) +
+                           " has fewer than 3 distinct vertices: no patch");
+      r.dropped_faces.push_back(f);
+      continue;
+    }
+    if (!factory.FaceHasLimitSurface(f)) {
+      r.dropped_faces.push_back(f);
+      continue;
+    }
+    auto b = std::make_shared<BasePatch>();
+    if (!factory.InitVertexSurface(f, &b->s) || !b->s.IsValid()) {
+      r.error = line_ref(cage, cage.face_lines[f]) + "OpenSubdiv could not build the limit surface of face " +
+                std::to_string(f);
+      return r;
+    }
+    b->points.resize(static_cast<std::size_t>(b->s.GetNumPatchPoints()) * 3);
+    b->s.PreparePatchPoints(&cage.points[0].x, 3, b->points.data(), 3);
+    b->triangle = loop;
+    base[f] = std::move(b);
+  }
+  if (r.dropped_faces.size() == static_cast<std::size_t>(nf)) {
+    r.error = cage.source + ": no face has a limit surface (all holes, or boundary interpolation 'none' on an open cage)";
+    return r;
+  }
+
+  // ---- which base edges are split at their midpoint (used by a Catmull-Clark n-gon)
+  const int ne = lvl.GetNumEdges();
+  std::vector<char> split(ne, 0), used_e(ne, 0);
+  std::vector<int> edge_uses(ne, 0);
+  for (int f = 0; f < nf; ++f) {
+    if (!base[f]) continue;
+    const auto fe = lvl.GetFaceEdges(f);
+    for (int i = 0; i < fe.size(); ++i) {
+      used_e[fe[i]] = 1;
+      ++edge_uses[fe[i]];
+      if (!loop && fe.size() != 4) split[fe[i]] = 1;
+    }
+  }
+  for (int e = 0; e < ne; ++e)
+    if (lvl.GetEdgeFaces(e).size() > 2) ++r.non_manifold_edges;
+
+  // ---- model vertices (positions filled from the patches below)
+  std::vector<Id> vtx_of_base(static_cast<std::size_t>(lvl.GetNumVertices()), kNone), vtx_of_mid(ne, kNone);
+  std::vector<Id> vtx_of_center(nf, kNone);
+  auto new_vertex = [&]() {
+    m.vertices.push_back({});
+    return static_cast<Id>(m.vertices.size() - 1);
+  };
+  std::vector<char> placed;  // vertex position already set
+  for (int f = 0; f < nf; ++f) {
+    if (!base[f]) continue;
+    for (int v : lvl.GetFaceVertices(f))
+      if (vtx_of_base[v] == kNone) vtx_of_base[v] = new_vertex();
+  }
+  for (int e = 0; e < ne; ++e)
+    if (used_e[e] && split[e]) vtx_of_mid[e] = new_vertex();
+  for (int f = 0; f < nf; ++f)
+    if (base[f] && !loop && cage.face_sizes[f] != 4) vtx_of_center[f] = new_vertex();
+  placed.assign(m.vertices.size(), 0);
+
+  // ---- model edges: pieces of base edges, then spokes (created on first use)
+  std::vector<std::array<Piece, 2>> pieces(ne);  // [0]: [0, 1/2] or [0,1]; [1]: [1/2, 1]
+  std::vector<Id> spoke_edge;                    // per (n-gon, corner), flattened below
+  std::vector<int> spoke_base(nf, -1);
+  int nspokes = 0;
+  for (int f = 0; f < nf; ++f)
+    if (vtx_of_center[f] != kNone) spoke_base[f] = nspokes, nspokes += cage.face_sizes[f];
+  spoke_edge.assign(nspokes, kNone);
+  for (int e = 0; e < ne; ++e) {
+    if (!used_e[e]) continue;
+    const auto ev = lvl.GetEdgeVertices(e);
+    const Id a = vtx_of_base[ev[0]], b = vtx_of_base[ev[1]];
+    if (split[e]) {
+      pieces[e][0] = {static_cast<Id>(m.edges.size()), 0.0, 0.5};
+      m.edges.push_back(Edge{nullptr, {0.0, 0.5}, a, vtx_of_mid[e]});
+      pieces[e][1] = {static_cast<Id>(m.edges.size()), 0.5, 1.0};
+      m.edges.push_back(Edge{nullptr, {0.5, 1.0}, vtx_of_mid[e], b});
+    } else {
+      pieces[e][0] = {static_cast<Id>(m.edges.size()), 0.0, 1.0};
+      m.edges.push_back(Edge{nullptr, {0.0, 1.0}, a, b});
+      // An edge from a vertex to itself (a face repeating a vertex, which OpenSubdiv
+      // takes as non-manifold and sharp) has a limit curve collapsed to that vertex: a
+      // degenerate edge, a pole side of its patches.
+      m.edges.back().degenerate = a == b;
+    }
+  }
+  for (int f = 0; f < nf; ++f)
+    if (vtx_of_center[f] != kNone) {
+      const auto fe = lvl.GetFaceEdges(f);
+      for (int i = 0; i < fe.size(); ++i) {
+        spoke_edge[spoke_base[f] + i] = static_cast<Id>(m.edges.size());
+        m.edges.push_back(Edge{nullptr, {0.0, 1.0}, vtx_of_mid[fe[i]], vtx_of_center[f]});
+      }
+    }
+
+  // The first use of an edge gives it its 3D curve (the limit curve seen from that
+  // patch); the first patch at a vertex gives its position.
+  auto add_use = [&](Loop& loop_, const std::shared_ptr<const Surface>& s, Id edge, bool rev, Vec2 a, Vec2 d) {
+    Edge& ed = m.edges[edge];
+    EdgeUse u;
+    u.edge = edge;
+    u.reversed = rev;
+    u.range = ed.range;
+    u.pcurve = make_line2(a, d, ed.range);  // straight in (u,v): same t, same point on every side
+    if (!ed.curve && !ed.degenerate) ed.curve = std::make_shared<CurveOnPatch>(s, u.pcurve);
+    loop_.uses.push_back(std::move(u));
+  };
+  auto place = [&](Id v, const Surface& s, Vec2 uv) {
+    if (v == kNone || placed[v]) return;
+    m.vertices[v].p = s.point(uv.x, uv.y);
+    placed[v] = 1;
+  };
+
+  // A side of a whole-face patch from corner c0 to c1 along base edge e: its pieces in
+  // traversal order, each with the pcurve uv(t) of the whole edge.
+  auto add_side = [&](Loop& lp, const std::shared_ptr<const Surface>& s, int e, bool forward, Vec2 c0, Vec2 c1) {
+    // Edge parameter t runs from the edge's first vertex: forward, uv(t) = c0 + t (c1 - c0).
+    const Vec2 a = forward ? c0 : c1, d = forward ? c1 - c0 : c0 - c1;
+    const int np = split[e] ? 2 : 1;
+    for (int k = 0; k < np; ++k) {
+      const Piece& p = pieces[e][forward ? k : np - 1 - k];
+      add_use(lp, s, p.edge, !forward, a, d);
+    }
+  };
+
+  auto patch_face = [](const std::shared_ptr<SubdSurface>& s) {
+    Face fc;
+    fc.surface = s;
+    fc.kind = SurfaceKind::Other;
+    fc.uv_box = s->bounds();
+    return fc;
+  };
+  for (int f = 0; f < nf; ++f) {
+    if (!base[f]) continue;
+    const auto fv = lvl.GetFaceVertices(f);
+    const auto fe = lvl.GetFaceEdges(f);
+    const int n = fv.size();
+    auto forward = [&](int i) { return lvl.GetEdgeVertices(fe[i])[0] == fv[i]; };
+    const Bfr::Parameterization param = base[f]->s.GetParameterization();
+    if (!param.HasSubFaces()) {
+      auto s = std::make_shared<SubdSurface>(base[f], Vec2(0.0), 1.0);
+      Face fc = patch_face(s);
+      Loop lp;
+      lp.outer = true;
+      for (int i = 0; i < n; ++i) {
+        double c0[2], c1[2];
+        param.GetVertexCoord(i, c0);
+        param.GetVertexCoord((i + 1) % n, c1);
+        add_side(lp, s, fe[i], forward(i), {c0[0], c0[1]}, {c1[0], c1[1]});
+        place(vtx_of_base[fv[i]], *s, {c0[0], c0[1]});
+        if (split[fe[i]]) place(vtx_of_mid[fe[i]], *s, 0.5 * (Vec2(c0[0], c0[1]) + Vec2(c1[0], c1[1])));
+      }
+      fc.loops.push_back(std::move(lp));
+      m.faces.push_back(std::move(fc));
+      r.patches.push_back({f, -1, n, Vec2(0.0), 1.0});
+      continue;
+    }
+    // n-gon: sub-face k has its (0,0) corner at vertex k, (1,0) at the midpoint of
+    // edge k, (1,1) at the centre and (0,1) at the midpoint of edge k-1 (OpenSubdiv's
+    // quadrangulation, the Ptex convention); CCW like the face.
+    for (int k = 0; k < n; ++k) {
+      const double z[2] = {0.0, 0.0}, one[2] = {1.0, 1.0};
+      double o[2], q[2];
+      param.ConvertNormalizedSubFaceToCoord(k, z, o);
+      param.ConvertNormalizedSubFaceToCoord(k, one, q);
+      const double scale = q[0] - o[0];
+      auto s = std::make_shared<SubdSurface>(base[f], Vec2(o[0], o[1]), scale);
+      Face fc = patch_face(s);
+      Loop lp;
+      lp.outer = true;
+      const int km = (k + n - 1) % n;
+      // side 0: vertex k -> midpoint of edge k (half of edge k next to vertex k)
+      {
+        const int e = fe[k];
+        if (forward(k)) add_use(lp, s, pieces[e][0].edge, false, {0.0, 0.0}, {2.0, 0.0});
+        else add_use(lp, s, pieces[e][1].edge, true, {2.0, 0.0}, {-2.0, 0.0});
+      }
+      // side 1: midpoint of edge k -> centre (spoke k, t from the midpoint)
+      add_use(lp, s, spoke_edge[spoke_base[f] + k], false, {1.0, 0.0}, {0.0, 1.0});
+      // side 2: centre -> midpoint of edge k-1 (spoke k-1 backwards)
+      add_use(lp, s, spoke_edge[spoke_base[f] + km], true, {0.0, 1.0}, {1.0, 0.0});
+      // side 3: midpoint of edge k-1 -> vertex k (half of edge k-1 next to vertex k)
+      {
+        const int e = fe[km];
+        if (forward(km)) add_use(lp, s, pieces[e][1].edge, false, {0.0, 2.0}, {0.0, -2.0});
+        else add_use(lp, s, pieces[e][0].edge, true, {0.0, 0.0}, {0.0, 2.0});
+      }
+      place(vtx_of_base[fv[k]], *s, {0.0, 0.0});
+      place(vtx_of_mid[fe[k]], *s, {1.0, 0.0});
+      place(vtx_of_center[f], *s, {1.0, 1.0});
+      fc.loops.push_back(std::move(lp));
+      m.faces.push_back(std::move(fc));
+      r.patches.push_back({f, k, n, Vec2(o[0], o[1]), scale});
+    }
+  }
+
+  for (Face& fc : m.faces)
+    for (const EdgeUse& u : fc.loops[0].uses)
+      if (m.edges[u.edge].degenerate) {
+        auto s = std::const_pointer_cast<Surface>(fc.surface);
+        static_cast<SubdSurface&>(*s).set_singular_sides(detect_singular_sides(*s, 1e-9));
+        break;
+      }
+
+  // ---- bounding box of the limit surface (sampled: the cage's box is larger)
+  for (const Face& fc : m.faces) {
+    constexpr int ns = 8;
+    for (int i = 0; i <= ns; ++i)
+      for (int j = 0; j <= ns - (loop ? i : 0); ++j) m.bbox.add(fc.surface->point(double(i) / ns, double(j) / ns));
+  }
+  for (const Vertex& v : m.vertices) m.bbox.add(v.p);
+  const double D = m.bbox.diagonal();
+  // Positions are computed, not measured: the tolerances only need to absorb rounding.
+  const double tol = 1e-10 * D;
+  for (Vertex& v : m.vertices) v.tol = tol;
+  for (Edge& e : m.edges) {
+    e.tol = tol;
+    e.length = e.curve ? arc_length(*e.curve, e.range.lo, e.range.hi) : 0.0;
+  }
+  for (Face& fc : m.faces) fc.tol = tol;
+
+  // ---- shells: patches connected through edges; closed when every edge has two uses
+  const auto ef = edge_faces(m);
+  std::vector<Id> comp(m.faces.size(), kNone);
+  for (Id f0 = 0; f0 < static_cast<Id>(m.faces.size()); ++f0) {
+    if (comp[f0] != kNone) continue;
+    const Id sh = static_cast<Id>(m.shells.size());
+    m.shells.push_back({});
+    std::vector<Id> stack{f0};
+    comp[f0] = sh;
+    bool closed = true;
+    while (!stack.empty()) {
+      const Id f = stack.back();
+      stack.pop_back();
+      m.shells[sh].faces.push_back(f);
+      for (const Loop& l : m.faces[f].loops)
+        for (const EdgeUse& u : l.uses) {
+          if (ef[u.edge].size() != 2) closed = false;
+          for (Id g : ef[u.edge])
+            if (comp[g] == kNone) comp[g] = sh, stack.push_back(g);
+        }
+    }
+    std::sort(m.shells[sh].faces.begin(), m.shells[sh].faces.end());
+    m.shells[sh].closed = closed;
+  }
+  for (Id f = 0; f < static_cast<Id>(m.faces.size()); ++f) m.faces[f].shell = comp[f];
+  for (Id sh = 0; sh < static_cast<Id>(m.shells.size()); ++sh) {
+    if (!m.shells[sh].closed) continue;
+    // Signed volume of the shell through its limit points (corner fans of sampled
+    // patches): negative when the cage's faces turn inward, then every patch is
+    // flagged reversed so the mesh comes out outward.
+    double vol = 0.0;
+    const Vec3 ref = m.bbox.lo;
+    for (Id f : m.shells[sh].faces) {
+      const Surface& s = *m.faces[f].surface;
+      constexpr int ns = 4;
+      for (int i = 0; i < ns; ++i)
+        for (int j = 0; j < ns; ++j) {
+          const double u0 = double(i) / ns, u1 = double(i + 1) / ns, v0 = double(j) / ns, v1 = double(j + 1) / ns;
+          if (loop && i + j >= ns) continue;
+          const Vec3 a = s.point(u0, v0) - ref, b = s.point(u1, v0) - ref, c = s.point(u0, v1) - ref;
+          vol += glm::dot(a, glm::cross(b, c));
+          if (!loop || i + j + 1 < ns) {
+            const Vec3 d = s.point(u1, v1) - ref;
+            vol += glm::dot(b, glm::cross(d, c));
+          }
+        }
+    }
+    if (vol < 0.0)
+      for (Id f : m.shells[sh].faces) m.faces[f].reversed = true;
+    Solid solid;
+    solid.shells.push_back(sh);
+    m.solids.push_back(std::move(solid));
+  }
+  r.ok = true;
+  return r;
+}
+
+}  // namespace uvmesh::geom

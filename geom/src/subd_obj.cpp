@@ -1,0 +1,233 @@
+// OBJ control cages (OpenSubdiv's dialect with `t` tag lines) and the option names of
+// the subdivision back end. Needs nothing but the standard library, so a build without
+// OpenSubdiv still reads cages and reports that it cannot evaluate them.
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+#include "uvmesh/geom/subd.h"
+
+namespace uvmesh::geom {
+namespace {
+
+// Whitespace-separated tokens of one line.
+std::vector<std::string_view> split(std::string_view s) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < s.size()) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\t' || s[i] == '\r')) ++i;
+    const std::size_t b = i;
+    while (i < s.size() && s[i] != ' ' && s[i] != '\t' && s[i] != '\r') ++i;
+    if (i > b) out.push_back(s.substr(b, i - b));
+  }
+  return out;
+}
+
+template <class T>
+bool to_number(std::string_view s, T& out) {
+  const char* e = s.data() + s.size();
+  auto [p, ec] = std::from_chars(s.data(), e, out);
+  return ec == std::errc() && p == e;
+}
+
+// Thrown inside the parser, caught once at its end: one message naming the line.
+struct ParseError {
+  int line;
+  std::string what;
+};
+
+}  // namespace
+
+bool parse_subd_scheme(const std::string& s, SubdScheme& out) {
+  if (s == "auto") out = SubdScheme::Auto;
+  else if (s == "catmark" || s == "catmull-clark") out = SubdScheme::CatmullClark;
+  else if (s == "loop") out = SubdScheme::Loop;
+  else return false;
+  return true;
+}
+
+bool parse_subd_boundary(const std::string& s, SubdBoundary& out) {
+  if (s == "file") out = SubdBoundary::FromFile;
+  else if (s == "none") out = SubdBoundary::None;
+  else if (s == "edge-only") out = SubdBoundary::EdgeOnly;
+  else if (s == "edge-and-corner") out = SubdBoundary::EdgeAndCorner;
+  else return false;
+  return true;
+}
+
+std::string_view to_string(SubdScheme s) {
+  switch (s) {
+    case SubdScheme::Auto: return "auto";
+    case SubdScheme::CatmullClark: return "catmark";
+    case SubdScheme::Loop: return "loop";
+  }
+  return "auto";
+}
+
+std::string_view to_string(SubdBoundary b) {
+  switch (b) {
+    case SubdBoundary::FromFile: return "file";
+    case SubdBoundary::None: return "none";
+    case SubdBoundary::EdgeOnly: return "edge-only";
+    case SubdBoundary::EdgeAndCorner: return "edge-and-corner";
+  }
+  return "file";
+}
+
+SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
+  SubdCageResult r;
+  SubdCage& c = r.cage;
+  c.source = name;
+  // Positive face indices may refer to vertices defined further down (some exporters
+  // write them so); they are checked at the end against the final vertex count.
+  std::vector<std::pair<int, int>> forward_refs;  // (index, line)
+  std::string line;
+  int ln = 0;
+  try {
+    while (std::getline(in, line)) {
+      ++ln;
+      if (auto h = line.find('#'); h != std::string::npos) line.resize(h);
+      const auto tok = split(line);
+      if (tok.empty()) continue;
+      const std::string_view kw = tok[0];
+      if (kw == "v") {
+        if (tok.size() < 4 || tok.size() > 5) throw ParseError{ln, "expected 'v x y z'"};
+        Vec3 p;
+        for (int k = 0; k < 3; ++k) {
+          if (!to_number(tok[1 + k], p[k])) throw ParseError{ln, "malformed vertex coordinate '" + std::string(tok[1 + k]) + "'"};
+          if (!std::isfinite(p[k])) throw ParseError{ln, "vertex coordinate is not finite (" + std::string(tok[1 + k]) + ")"};
+        }
+        c.points.push_back(p);
+      } else if (kw == "f") {
+        if (tok.size() < 4) throw ParseError{ln, "a face needs at least 3 vertices"};
+        const std::size_t first = c.face_verts.size();
+        for (std::size_t k = 1; k < tok.size(); ++k) {
+          // "v", "v/vt", "v//vn", "v/vt/vn": only the vertex index matters.
+          const std::string_view vs = tok[k].substr(0, tok[k].find('/'));
+          long idx = 0;
+          if (!to_number(vs, idx)) throw ParseError{ln, "malformed face index '" + std::string(tok[k]) + "'"};
+          if (idx == 0) throw ParseError{ln, "face index 0 (OBJ indices start at 1)"};
+          long v0 = 0;
+          if (idx < 0) {
+            v0 = static_cast<long>(c.points.size()) + idx;  // relative to the vertices so far
+            if (v0 < 0)
+              throw ParseError{ln, "face index " + std::to_string(idx) + " refers before the first vertex (" +
+                                       std::to_string(c.points.size()) + " defined so far)"};
+          } else {
+            v0 = idx - 1;
+            if (v0 > 0x7fffffffL - 1) throw ParseError{ln, "face index " + std::to_string(idx) + " is too large"};
+            if (v0 >= static_cast<long>(c.points.size())) forward_refs.push_back({static_cast<int>(v0), ln});
+          }
+          c.face_verts.push_back(static_cast<int>(v0));
+        }
+        // A vertex repeated in a face is left to OpenSubdiv, which takes such faces as
+        // non-manifold (catmark_nonman_edges.obj has some, on purpose).
+        c.face_sizes.push_back(static_cast<int>(c.face_verts.size() - first));
+        c.face_lines.push_back(ln);
+      } else if (kw == "t") {
+        // t NAME nints/nfloats/nstrings ints... floats... strings...
+        if (tok.size() < 3) throw ParseError{ln, "expected 't NAME nint/nfloat/nstring ...'"};
+        const std::string tname(tok[1]);
+        std::array<int, 3> n{};
+        {
+          const std::string_view cs = tok[2];
+          const auto s1 = cs.find('/'), s2 = s1 == std::string_view::npos ? s1 : cs.find('/', s1 + 1);
+          if (s2 == std::string_view::npos || !to_number(cs.substr(0, s1), n[0]) ||
+              !to_number(cs.substr(s1 + 1, s2 - s1 - 1), n[1]) || !to_number(cs.substr(s2 + 1), n[2]) || n[0] < 0 ||
+              n[1] < 0 || n[2] < 0)
+            throw ParseError{ln, "malformed tag counts '" + std::string(cs) + "' (expected nint/nfloat/nstring)"};
+        }
+        if (tok.size() != 3u + n[0] + n[1] + n[2])
+          throw ParseError{ln, "tag '" + tname + "' announces " + std::to_string(n[0] + n[1] + n[2]) + " arguments but has " +
+                                   std::to_string(tok.size() - 3)};
+        std::vector<int> ia(n[0]);
+        std::vector<float> fa(n[1]);
+        std::vector<std::string> sa;
+        for (int k = 0; k < n[0]; ++k)
+          if (!to_number(tok[3 + k], ia[k])) throw ParseError{ln, "malformed integer '" + std::string(tok[3 + k]) + "' in tag '" + tname + "'"};
+        for (int k = 0; k < n[1]; ++k) {
+          const auto& s = tok[3 + n[0] + k];
+          if (!to_number(s, fa[k]) || !std::isfinite(fa[k]))
+            throw ParseError{ln, "malformed number '" + std::string(s) + "' in tag '" + tname + "'"};
+        }
+        for (int k = 0; k < n[2]; ++k) sa.emplace_back(tok[3 + n[0] + n[1] + k]);
+        for (int i : ia)
+          if (i < 0) throw ParseError{ln, "negative index " + std::to_string(i) + " in tag '" + tname + "' (tag indices are 0-based)"};
+        if (tname == "crease") {
+          // A chain of vertices; one sharpness for all its edges or one per edge.
+          if (n[0] < 2 || (n[1] != 1 && n[1] != n[0] - 1))
+            throw ParseError{ln, "crease: expected 2 or more vertices and 1 sharpness (or one per edge)"};
+          for (int k = 0; k + 1 < n[0]; ++k)
+            c.creases.push_back({ia[k], ia[k + 1], fa[n[1] == 1 ? 0 : k], ln});
+        } else if (tname == "corner") {
+          if (n[0] < 1 || (n[1] != 1 && n[1] != n[0]))
+            throw ParseError{ln, "corner: expected vertices and 1 sharpness (or one per vertex)"};
+          for (int k = 0; k < n[0]; ++k) c.corners.push_back({ia[k], fa[n[1] == 1 ? 0 : k], ln});
+        } else if (tname == "hole") {
+          for (int k = 0; k < n[0]; ++k) c.holes.push_back({ia[k], ln});
+        } else if (tname == "interpolateboundary") {
+          if (n[0] != 1 || ia[0] > 2) throw ParseError{ln, "interpolateboundary: expected one integer 0, 1 or 2"};
+          c.interpolate_boundary = ia[0];
+        } else if (tname == "creasemethod") {
+          if (n[2] != 1 || (sa[0] != "normal" && sa[0] != "chaikin"))
+            throw ParseError{ln, "creasemethod: expected 'normal' or 'chaikin'"};
+          c.chaikin = sa[0] == "chaikin";
+        } else {
+          c.warnings.push_back(name + ":" + std::to_string(ln) + ": tag '" + tname + "' ignored");
+        }
+      } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "g" || kw == "o" || kw == "s" || kw == "usemtl" ||
+                 kw == "mtllib" || kw == "l") {
+        continue;  // texture, normals, grouping and materials do not change the limit surface
+      } else {
+        c.warnings.push_back(name + ":" + std::to_string(ln) + ": statement '" + std::string(kw) + "' ignored");
+      }
+    }
+    for (const auto& [idx, fl] : forward_refs)
+      if (idx >= static_cast<int>(c.points.size()))
+        throw ParseError{fl, "face references vertex " + std::to_string(idx + 1) + " but the file has only " +
+                                 std::to_string(c.points.size()) + " vertices"};
+    if (c.face_sizes.empty()) throw ParseError{ln, "no faces"};
+  } catch (const ParseError& e) {
+    r.error = name + ":" + std::to_string(e.line) + ": " + e.what;
+    return r;
+  }
+  r.ok = true;
+  return r;
+}
+
+SubdCageResult read_obj_cage(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    SubdCageResult r;
+    r.error = path + ": cannot open";
+    return r;
+  }
+  return parse_obj_cage(in, path);
+}
+
+SubdModelResult read_subd(const std::string& path, const SubdOptions& opt) {
+  SubdCageResult c = read_obj_cage(path);
+  if (!c.ok) {
+    SubdModelResult r;
+    r.error = std::move(c.error);
+    return r;
+  }
+  SubdModelResult r = model_from_cage(c.cage, opt);
+  r.model.source = path;
+  r.warnings.insert(r.warnings.begin(), c.cage.warnings.begin(), c.cage.warnings.end());
+  return r;
+}
+
+#ifndef UVMESH_HAVE_OSD
+bool have_opensubdiv() { return false; }
+SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions&) {
+  SubdModelResult r;
+  r.error = cage.source + ": this uvmesh was built without OpenSubdiv (libosd-dev): cannot evaluate subdivision surfaces";
+  return r;
+}
+#endif
+
+}  // namespace uvmesh::geom
