@@ -15,6 +15,8 @@
 // per number is several times slower than this for the same bytes.
 #include "uvmesh/io/mesh_writer.h"
 
+#include "draco_io.h"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -31,7 +33,9 @@
 #include <filesystem>
 #include <initializer_list>
 #include <limits>
+#include <map>
 #include <memory>
+#include <string>
 #include <system_error>
 #include <vector>
 
@@ -139,6 +143,62 @@ class Sink {
   std::unique_ptr<char[]> buf_;
   std::size_t pos_ = 0;
   int err_ = 0;
+};
+
+// Binary numbers in a fixed byte order, whatever the host's.
+template <class T>
+void put_le(Sink& out, T v) {
+  auto bits = std::bit_cast<std::array<unsigned char, sizeof(T)>>(v);
+  if constexpr (std::endian::native == std::endian::big) std::reverse(bits.begin(), bits.end());
+  out.raw(bits.data(), bits.size());
+}
+
+template <class T>
+void put_be(Sink& out, T v) {
+  auto bits = std::bit_cast<std::array<unsigned char, sizeof(T)>>(v);
+  if constexpr (std::endian::native == std::endian::little) std::reverse(bits.begin(), bits.end());
+  out.raw(bits.data(), bits.size());
+}
+
+// The numbers of a record in .msh 4.1 (and other formats with an ASCII and a binary
+// form of the same records): ASCII separates them with spaces and ends the record with a
+// newline; binary writes them little-endian back to back (Gmsh's binary files are in the
+// writer's byte order, and it reads the endianness marker 1 written in $MeshFormat).
+class Record {
+ public:
+  Record(Sink& out, bool binary) : out_(out), binary_(binary) {}
+  bool binary() const { return binary_; }
+  Record& i(std::int64_t v) {  // a C int (tags, dims, types)
+    if (binary_) put_le(out_, static_cast<std::int32_t>(v));
+    else text(v);
+    return *this;
+  }
+  Record& z(std::int64_t v) {  // a size_t (counts, node and element tags)
+    if (binary_) put_le(out_, static_cast<std::uint64_t>(v));
+    else text(v);
+    return *this;
+  }
+  Record& d(double v) {
+    if (binary_) put_le(out_, v);
+    else text(v);
+    return *this;
+  }
+  Record& xyz(const geom::Vec3& p) { return d(p.x).d(p.y).d(p.z); }
+  void end() {
+    if (!binary_) out_.put('\n');
+    first_ = true;
+  }
+
+ private:
+  template <class T>
+  void text(T v) {
+    if (!first_) out_.put(' ');
+    first_ = false;
+    out_.num(v);
+  }
+  Sink& out_;
+  bool binary_;
+  bool first_ = true;
 };
 
 // The temporary file beside the target: created exclusively (a unique name per process
@@ -282,6 +342,70 @@ std::string validate(const SurfaceMesh& m, const geom::Model* model, Counts& c) 
 
 // ----------------------------------------------------------------------------- Gmsh 4.1
 
+// Physical groups: a solver addresses boundary conditions and materials through them.
+// Volume group per solid (tag = solid id + 1); surface groups per distinct face name
+// (tags 1.. in order of first appearance), so that faces a CAD user named alike (e.g.
+// "inlet") form one group.
+struct Physicals {
+  std::vector<std::int64_t> face_group;  ///< per face: its surface group tag, 0 for none
+  std::vector<std::string> face_names;   ///< surface group tag - 1 -> name
+  bool solids = false;                   ///< one volume group per written volume
+  std::vector<std::string> solid_names;  ///< per solid id
+};
+
+Physicals physicals(const geom::Model* model, const Counts& c, bool on) {
+  Physicals p;
+  if (!on || !model) return p;
+  p.solids = true;
+  for (std::size_t s = 0; s < model->solids.size(); ++s)
+    p.solid_names.push_back(model->solids[s].name.empty() ? "solid_" + std::to_string(s + 1)
+                                                          : model->solids[s].name);
+  p.face_group.assign(c.faces, 0);
+  std::map<std::string, std::int64_t> tag_of;
+  for (std::size_t f = 0; f < model->faces.size() && f < c.faces; ++f) {
+    const std::string& name = model->faces[f].name;
+    if (name.empty()) continue;
+    auto [it, fresh] = tag_of.emplace(name, static_cast<std::int64_t>(p.face_names.size()) + 1);
+    if (fresh) p.face_names.push_back(name);
+    p.face_group[f] = it->second;
+  }
+  return p;
+}
+
+// A name inside the double quotes of $PhysicalNames: Gmsh reads up to the next quote and
+// the line end, so both are replaced.
+std::string quoted_name(const std::string& name) {
+  std::string q;
+  for (char ch : name) q += (ch == '"' || ch == '\n' || ch == '\r') ? '_' : ch;
+  return '"' + q + '"';
+}
+
+// $PhysicalNames (ASCII in binary files too) for the named surface groups and the volume
+// groups of the written volumes (volume_tags: the solid tags written, in order).
+void write_physical_names(Sink& out, const Physicals& p, const std::vector<std::int64_t>& volume_tags) {
+  const std::size_t n = p.face_names.size() + (p.solids ? volume_tags.size() : 0);
+  if (n == 0) return;
+  out.put("$PhysicalNames\n");
+  out.num(n);
+  out.put('\n');
+  for (std::size_t g = 0; g < p.face_names.size(); ++g) {
+    out.put("2 ");
+    out.num(g + 1);
+    out.put(' ');
+    out.put(quoted_name(p.face_names[g]));
+    out.put('\n');
+  }
+  if (p.solids)
+    for (std::int64_t t : volume_tags) {
+      out.put("3 ");
+      out.num(t);
+      out.put(' ');
+      out.put(quoted_name(p.solid_names[static_cast<std::size_t>(t - 1)]));
+      out.put('\n');
+    }
+  out.put("$EndPhysicalNames\n");
+}
+
 // Nodes grouped by entity: keys are vertices, then edges, then faces, so iterating the
 // keys in order gives Gmsh's usual dimension-then-tag block order.
 struct NodeGroups {
@@ -290,7 +414,8 @@ struct NodeGroups {
   std::size_t key(int dim, std::size_t id) const { return base[dim] + id; }
 };
 
-void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, const Counts& c) {
+void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, const Counts& c, const Physicals& phys,
+                 bool binary) {
   const std::size_t np = m.points.size();
   NodeGroups ng;
   ng.base[0] = 0;
@@ -402,36 +527,38 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
   for (std::size_t f = 0; f < c.faces; ++f) n_surfaces += has_surface(f);
 
   auto i64 = [](std::size_t v) { return static_cast<std::int64_t>(v); };
-  out.put("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n");
-  out.line({i64(n_points), i64(n_curves), i64(n_surfaces), i64(volumes.size())});
-  // Curve / surface / volume line: tag, bbox, no physical tags, the bounding entities.
-  auto entity = [&](std::int64_t tag, const geom::Box3& box, const std::vector<std::int64_t>& bounding) {
-    out.num(tag);
-    out.put(' ');
-    out.xyz(box.lo);
-    out.put(' ');
-    out.xyz(box.hi);
-    out.put(" 0 ");
-    out.num(bounding.size());
-    for (std::int64_t t : bounding) {
-      out.put(' ');
-      out.num(t);
-    }
+  Record r(out, binary);
+  out.put(binary ? "$MeshFormat\n4.1 1 8\n" : "$MeshFormat\n4.1 0 8\n");
+  if (binary) {
+    put_le(out, std::int32_t{1});  // endianness marker
     out.put('\n');
+  }
+  out.put("$EndMeshFormat\n");
+  std::vector<std::int64_t> volume_tags;
+  for (const Volume& vol : volumes) volume_tags.push_back(vol.tag);
+  write_physical_names(out, phys, volume_tags);
+  out.put("$Entities\n");
+  r.z(i64(n_points)).z(i64(n_curves)).z(i64(n_surfaces)).z(i64(volumes.size())).end();
+  // Curve / surface / volume record: tag, bbox, physical tags, the bounding entities.
+  auto entity = [&](std::int64_t tag, const geom::Box3& box, std::int64_t physical,
+                    const std::vector<std::int64_t>& bounding) {
+    r.i(tag).xyz(box.lo).xyz(box.hi).z(physical > 0 ? 1 : 0);
+    if (physical > 0) r.i(physical);
+    r.z(i64(bounding.size()));
+    for (std::int64_t t : bounding) r.i(t);
+    r.end();
   };
   // Point: tag x y z numPhysicalTags.
   for (std::size_t v = 0; v < c.vertices; ++v) {
     if (!has_point(v)) continue;
-    out.num(one_based(v));
-    out.put(' ');
-    out.xyz(m.points[static_cast<std::size_t>(ng.b.order[ng.b.first[ng.key(0, v)]])]);
-    out.put(" 0\n");
+    r.i(one_based(v)).xyz(m.points[static_cast<std::size_t>(ng.b.order[ng.b.first[ng.key(0, v)]])]).z(0).end();
   }
   for (std::size_t e = 0; e < c.edges; ++e)
-    if (has_curve(e)) entity(one_based(e), curve_box[e], curve_points[e]);
+    if (has_curve(e)) entity(one_based(e), curve_box[e], 0, curve_points[e]);
   for (std::size_t f = 0; f < c.faces; ++f)
-    if (has_surface(f)) entity(one_based(f), surface_box[f], surface_curves[f]);
-  for (const Volume& vol : volumes) entity(vol.tag, vol.box, vol.surfaces);
+    if (has_surface(f)) entity(one_based(f), surface_box[f], phys.face_group.empty() ? 0 : phys.face_group[f], surface_curves[f]);
+  for (const Volume& vol : volumes) entity(vol.tag, vol.box, phys.solids ? vol.tag : 0, vol.surfaces);
+  if (binary) out.put('\n');
   out.put("$EndEntities\n");
 
   // $Nodes: numBlocks numNodes minTag maxTag, then per block "dim tag parametric n",
@@ -440,23 +567,18 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
   std::size_t node_blocks = 0;
   for (std::size_t k = 0; k < num_keys; ++k) node_blocks += ng.b.size(k) > 0;
   out.put("$Nodes\n");
-  out.line({i64(node_blocks), i64(np), np > 0 ? 1 : 0, i64(np)});
+  r.z(i64(node_blocks)).z(i64(np)).z(np > 0 ? 1 : 0).z(i64(np)).end();
   for (int dim = 0; dim < 3; ++dim) {
     const std::size_t n_ent = dim == 0 ? c.vertices : dim == 1 ? c.edges : c.faces;
     for (std::size_t id = 0; id < n_ent; ++id) {
       const std::size_t k = ng.key(dim, id);
       if (ng.b.size(k) == 0) continue;
-      out.line({dim, one_based(id), 0, i64(ng.b.size(k))});  // parametric = 0
-      ng.b.each(k, [&](std::size_t i) {
-        out.num(one_based(i));
-        out.put('\n');
-      });
-      ng.b.each(k, [&](std::size_t i) {
-        out.xyz(m.points[i]);
-        out.put('\n');
-      });
+      r.i(dim).i(one_based(id)).i(0).z(i64(ng.b.size(k))).end();  // parametric = 0
+      ng.b.each(k, [&](std::size_t i) { r.z(one_based(i)).end(); });
+      ng.b.each(k, [&](std::size_t i) { r.xyz(m.points[i]).end(); });
     }
   }
+  if (binary) out.put('\n');
   out.put("$EndNodes\n");
 
   // $Elements: a point element (type 15) per model-vertex node, 2-node lines (type 1)
@@ -468,35 +590,64 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
   for (std::size_t f = 0; f < c.faces; ++f) elem_blocks += tris.size(f) > 0;
   const std::size_t n_elems = vertex_nodes + m.segments.size() + m.triangles.size();
   out.put("$Elements\n");
-  out.line({i64(elem_blocks), i64(n_elems), n_elems > 0 ? 1 : 0, i64(n_elems)});
-  // One block per entity that has elements: "dim tag type n", then n lines
+  r.z(i64(elem_blocks)).z(i64(n_elems)).z(n_elems > 0 ? 1 : 0).z(i64(n_elems)).end();
+  // One block per entity that has elements: "dim tag type n", then n records
   // "elementTag nodeTag...". Element tags run on across blocks.
   std::int64_t tag = 1;
-  auto node = [&](std::size_t v) {
-    out.put(' ');
-    out.num(one_based(v));
-  };
   auto blocks = [&](int dim, int type, const Buckets& b, std::size_t key0, std::size_t n_ent,
                     auto nodes_of) {
     for (std::size_t id = 0; id < n_ent; ++id) {
       const std::size_t k = key0 + id;
       if (b.size(k) == 0) continue;
-      out.line({dim, one_based(id), type, i64(b.size(k))});
+      r.i(dim).i(one_based(id)).i(type).z(i64(b.size(k))).end();
       b.each(k, [&](std::size_t i) {
-        out.num(tag++);
+        r.z(tag++);
         nodes_of(i);
-        out.put('\n');
+        r.end();
       });
     }
   };
-  blocks(0, 15, ng.b, ng.base[0], c.vertices, [&](std::size_t i) { node(i); });
-  blocks(1, 1, segs, 0, c.edges, [&](std::size_t s) {
-    node(static_cast<std::size_t>(m.segments[s].a));
-    node(static_cast<std::size_t>(m.segments[s].b));
-  });
+  blocks(0, 15, ng.b, ng.base[0], c.vertices, [&](std::size_t i) { r.z(one_based(i)); });
+  blocks(1, 1, segs, 0, c.edges, [&](std::size_t s) { r.z(one_based(m.segments[s].a)).z(one_based(m.segments[s].b)); });
   blocks(2, 2, tris, 0, c.faces, [&](std::size_t t) {
-    for (NodeId v : m.triangles[t]) node(static_cast<std::size_t>(v));
+    for (NodeId v : m.triangles[t]) r.z(one_based(v));
   });
+  if (binary) out.put('\n');
+  out.put("$EndElements\n");
+}
+
+// ----------------------------------------------------------------------------- Gmsh 2.2
+
+// The legacy format many solvers still read: one node list, one element list whose
+// records carry "physical elementary" tags. No volume elements exist in a surface mesh,
+// so only the named face groups can appear (a solid's group needs the 4.1 entities).
+void write_msh22(Sink& out, const SurfaceMesh& m, const Physicals& phys) {
+  out.put("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
+  write_physical_names(out, Physicals{phys.face_group, phys.face_names, false, {}}, {});
+  out.put("$Nodes\n");
+  out.num(m.points.size());
+  out.put('\n');
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    out.num(one_based(i));
+    out.put(' ');
+    out.xyz(m.points[i]);
+    out.put('\n');
+  }
+  out.put("$EndNodes\n$Elements\n");
+  std::size_t n_vertices = 0;
+  for (std::size_t i = 0; i < m.points.size(); ++i) n_vertices += m.point_dim[i] == 0;
+  out.num(n_vertices + m.segments.size() + m.triangles.size());
+  out.put('\n');
+  std::int64_t tag = 1;
+  for (std::size_t i = 0; i < m.points.size(); ++i)
+    if (m.point_dim[i] == 0) out.line({tag++, 15, 2, 0, one_based(m.point_entity[i]), one_based(i)});
+  for (const auto& sg : m.segments) out.line({tag++, 1, 2, 0, one_based(sg.edge), one_based(sg.a), one_based(sg.b)});
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto f = static_cast<std::size_t>(m.triangle_face[t]);
+    const auto& tri = m.triangles[t];
+    out.line({tag++, 2, 2, phys.face_group.empty() ? 0 : phys.face_group[f], one_based(f), one_based(tri[0]),
+              one_based(tri[1]), one_based(tri[2])});
+  }
   out.put("$EndElements\n");
 }
 
@@ -531,6 +682,113 @@ void write_medit(Sink& out, const SurfaceMesh& m) {
   out.put("\nEnd\n");
 }
 
+// Binary Medit, as libMeshb writes it (version 3): int32 code 1 (the reader's byte-order
+// check), int32 version, then keywords "int32 code, int64 position of the next keyword,
+// [int32 count], records". Version 3 = double reals, 32-bit integers, 64-bit positions,
+// so a file may pass 2 GiB.
+void write_meshb(Sink& out, const SurfaceMesh& m) {
+  constexpr std::int32_t kDimension = 3, kVertices = 4, kEdges = 5, kTriangles = 6, kEnd = 54;
+  std::int64_t pos = 8;  // bytes written so far: the code and the version
+  put_le(out, std::int32_t{1});
+  put_le(out, std::int32_t{3});
+  auto keyword = [&](std::int32_t code, std::int64_t payload) {
+    pos += 4 + 8 + payload;
+    put_le(out, code);
+    put_le(out, code == kEnd ? std::int64_t{0} : pos);
+  };
+  keyword(kDimension, 4);
+  put_le(out, std::int32_t{3});
+  const auto np = static_cast<std::int64_t>(m.points.size());
+  keyword(kVertices, 4 + np * (3 * 8 + 4));
+  put_le(out, static_cast<std::int32_t>(np));
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    put_le(out, m.points[i].x);
+    put_le(out, m.points[i].y);
+    put_le(out, m.points[i].z);
+    put_le(out, static_cast<std::int32_t>(one_based(m.point_entity[i])));
+  }
+  if (!m.segments.empty()) {
+    keyword(kEdges, 4 + static_cast<std::int64_t>(m.segments.size()) * 12);
+    put_le(out, static_cast<std::int32_t>(m.segments.size()));
+    for (const auto& sg : m.segments)
+      for (std::int64_t v : {one_based(sg.a), one_based(sg.b), one_based(sg.edge)})
+        put_le(out, static_cast<std::int32_t>(v));
+  }
+  if (!m.triangles.empty()) {
+    keyword(kTriangles, 4 + static_cast<std::int64_t>(m.triangles.size()) * 16);
+    put_le(out, static_cast<std::int32_t>(m.triangles.size()));
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      const auto& tri = m.triangles[t];
+      for (std::int64_t v : {one_based(tri[0]), one_based(tri[1]), one_based(tri[2]), one_based(m.triangle_face[t])})
+        put_le(out, static_cast<std::int32_t>(v));
+    }
+  }
+  keyword(kEnd, 0);
+}
+
+// ----------------------------------------------------------------------------- TetGen
+
+// .poly (TetGen manual, section 5.2.2) and .smesh (5.2.3): node list with index base 1,
+// then facets with boundary markers (face id + 1, so a volume mesh keeps the CAD face of
+// each boundary triangle), then zero holes and zero regions. A .poly facet is a list of
+// polygons; here each is one triangle.
+void write_tetgen(Sink& out, const SurfaceMesh& m, bool smesh) {
+  out.put(smesh ? "# uvmesh surface mesh (TetGen .smesh)\n" : "# uvmesh surface mesh (TetGen .poly)\n");
+  out.line({static_cast<std::int64_t>(m.points.size()), 3, 0, 0});
+  for (std::size_t i = 0; i < m.points.size(); ++i) {
+    out.num(one_based(i));
+    out.put(' ');
+    out.xyz(m.points[i]);
+    out.put('\n');
+  }
+  out.line({static_cast<std::int64_t>(m.triangles.size()), 1});
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    const std::int64_t marker = one_based(m.triangle_face[t]);
+    if (smesh) {
+      out.line({3, one_based(tri[0]), one_based(tri[1]), one_based(tri[2]), marker});
+    } else {
+      out.line({1, 0, marker});
+      out.line({3, one_based(tri[0]), one_based(tri[1]), one_based(tri[2])});
+    }
+  }
+  out.put("0\n0\n");  // holes, regions
+}
+
+// ----------------------------------------------------------------------------- PLY
+
+// PLY (Turk's format as in the Stanford repository): double coordinates so that binary
+// and ASCII files round-trip exactly; the face list count is a uchar, indices int; the
+// CAD face id is an extra face property.
+void write_ply(Sink& out, const SurfaceMesh& m, bool binary) {
+  out.put(binary ? "ply\nformat binary_little_endian 1.0\n" : "ply\nformat ascii 1.0\n");
+  out.put("comment uvmesh surface mesh, face_id = CAD face\nelement vertex ");
+  out.num(m.points.size());
+  out.put("\nproperty double x\nproperty double y\nproperty double z\nelement face ");
+  out.num(m.triangles.size());
+  out.put("\nproperty list uchar int vertex_indices\nproperty int face_id\nend_header\n");
+  for (const geom::Vec3& p : m.points) {
+    if (binary) {
+      put_le(out, p.x);
+      put_le(out, p.y);
+      put_le(out, p.z);
+    } else {
+      out.xyz(p);
+      out.put('\n');
+    }
+  }
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    if (binary) {
+      put_le(out, std::uint8_t{3});
+      for (NodeId v : tri) put_le(out, static_cast<std::int32_t>(v));
+      put_le(out, static_cast<std::int32_t>(m.triangle_face[t]));
+    } else {
+      out.line({3, tri[0], tri[1], tri[2], m.triangle_face[t]});
+    }
+  }
+}
+
 // ----------------------------------------------------------------------------- STL
 
 // Unit normal of a triangle from its corners (right-hand rule), 0 for a degenerate one.
@@ -540,20 +798,6 @@ geom::Vec3 unit_normal(const SurfaceMesh& m, const std::array<NodeId, 3>& t) {
                                   m.points[static_cast<std::size_t>(t[2])] - a);
   const double len = glm::length(n);
   return len > 0.0 ? n / len : geom::Vec3(0.0);
-}
-
-template <class T>
-void put_le(Sink& out, T v) {
-  auto bits = std::bit_cast<std::array<unsigned char, sizeof(T)>>(v);
-  if constexpr (std::endian::native == std::endian::big) std::reverse(bits.begin(), bits.end());
-  out.raw(bits.data(), bits.size());
-}
-
-template <class T>
-void put_be(Sink& out, T v) {
-  auto bits = std::bit_cast<std::array<unsigned char, sizeof(T)>>(v);
-  if constexpr (std::endian::native == std::endian::little) std::reverse(bits.begin(), bits.end());
-  out.raw(bits.data(), bits.size());
 }
 
 void write_stl_binary(Sink& out, const SurfaceMesh& m) {
@@ -671,32 +915,147 @@ void write_vtk(Sink& out, const SurfaceMesh& m, bool binary) {
   if (binary) out.put('\n');
 }
 
+// VTK XML UnstructuredGrid ("VTK File Formats", XML formats): inline arrays, either
+// ASCII or base64 "binary" (each array's bytes preceded by a UInt32 byte count, the count
+// and the data encoded as one base64 stream, as VTK's writer does without compression).
+class Base64 {
+ public:
+  explicit Base64(Sink& out) : out_(out) {}
+  void bytes(const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) {
+      acc_[k_++] = b[i];
+      if (k_ == 3) emit(3);
+    }
+  }
+  template <class T>
+  void le(T v) {
+    auto bits = std::bit_cast<std::array<unsigned char, sizeof(T)>>(v);
+    if constexpr (std::endian::native == std::endian::big) std::reverse(bits.begin(), bits.end());
+    bytes(bits.data(), bits.size());
+  }
+  void finish() {
+    if (k_ > 0) emit(k_);
+  }
+
+ private:
+  void emit(int n) {
+    static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    for (int i = n; i < 3; ++i) acc_[i] = 0;
+    const unsigned v = (unsigned{acc_[0]} << 16) | (unsigned{acc_[1]} << 8) | acc_[2];
+    char q[4] = {kAlphabet[(v >> 18) & 63], kAlphabet[(v >> 12) & 63], n > 1 ? kAlphabet[(v >> 6) & 63] : '=',
+                 n > 2 ? kAlphabet[v & 63] : '='};
+    out_.raw(q, 4);
+    k_ = 0;
+  }
+  Sink& out_;
+  unsigned char acc_[3] = {0, 0, 0};
+  int k_ = 0;
+};
+
+void write_vtu(Sink& out, const SurfaceMesh& m, bool binary) {
+  const std::size_t np = m.points.size(), nt = m.triangles.size();
+  out.put("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt32\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"");
+  out.num(np);
+  out.put("\" NumberOfCells=\"");
+  out.num(nt);
+  out.put("\">\n");
+  // One array: n values produced by value(i, sink) in ASCII or by value(i, base64).
+  auto array = [&](const char* type, const char* name, int components, std::size_t n, std::size_t value_bytes,
+                   auto ascii_value, auto binary_value) {
+    out.put("<DataArray type=\"");
+    out.put(type);
+    out.put("\" Name=\"");
+    out.put(name);
+    out.put("\" NumberOfComponents=\"");
+    out.num(components);
+    out.put(binary ? "\" format=\"binary\">\n" : "\" format=\"ascii\">\n");
+    if (binary) {
+      Base64 b(out);
+      b.le(static_cast<std::uint32_t>(n * value_bytes));
+      for (std::size_t i = 0; i < n; ++i) binary_value(i, b);
+      b.finish();
+      out.put('\n');
+    } else {
+      for (std::size_t i = 0; i < n; ++i) ascii_value(i);
+    }
+    out.put("</DataArray>\n");
+  };
+  out.put("<Points>\n");
+  array("Float64", "Points", 3, np, 24,
+        [&](std::size_t i) { out.xyz(m.points[i]); out.put('\n'); },
+        [&](std::size_t i, Base64& b) { b.le(m.points[i].x); b.le(m.points[i].y); b.le(m.points[i].z); });
+  out.put("</Points>\n<Cells>\n");
+  array("Int32", "connectivity", 1, nt, 12,
+        [&](std::size_t t) { const auto& tri = m.triangles[t]; out.line({tri[0], tri[1], tri[2]}); },
+        [&](std::size_t t, Base64& b) { for (NodeId v : m.triangles[t]) b.le(static_cast<std::int32_t>(v)); });
+  array("Int32", "offsets", 1, nt, 4,
+        [&](std::size_t t) { out.line({static_cast<std::int64_t>(3 * (t + 1))}); },
+        [&](std::size_t t, Base64& b) { b.le(static_cast<std::int32_t>(3 * (t + 1))); });
+  constexpr std::uint8_t kVtkTriangle = 5;
+  array("UInt8", "types", 1, nt, 1, [&](std::size_t) { out.line({kVtkTriangle}); },
+        [&](std::size_t, Base64& b) { b.le(kVtkTriangle); });
+  out.put("</Cells>\n<CellData Scalars=\"face_id\">\n");
+  array("Int32", "face_id", 1, nt, 4, [&](std::size_t t) { out.line({m.triangle_face[t]}); },
+        [&](std::size_t t, Base64& b) { b.le(static_cast<std::int32_t>(m.triangle_face[t])); });
+  out.put("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+}
+
 }  // namespace
 
 // ----------------------------------------------------------------------------- API
+
+namespace {
+
+struct FormatInfo {
+  MeshFormat format;
+  std::string_view name, extension;
+};
+
+constexpr FormatInfo kFormats[] = {
+    {MeshFormat::Msh41, "msh41", ".msh"}, {MeshFormat::Msh22, "msh22", ".msh"},
+    {MeshFormat::Medit, "medit", ".mesh"}, {MeshFormat::Meshb, "meshb", ".meshb"},
+    {MeshFormat::Stl, "stl", ".stl"},     {MeshFormat::Obj, "obj", ".obj"},
+    {MeshFormat::Ply, "ply", ".ply"},     {MeshFormat::Vtk, "vtk", ".vtk"},
+    {MeshFormat::Vtu, "vtu", ".vtu"},     {MeshFormat::Poly, "poly", ".poly"},
+    {MeshFormat::Smesh, "smesh", ".smesh"}, {MeshFormat::Drc, "drc", ".drc"},
+    {MeshFormat::Glb, "glb", ".glb"},
+};
+
+}  // namespace
 
 std::optional<MeshFormat> format_from_path(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  if (ext == ".msh") return MeshFormat::Msh41;
-  if (ext == ".mesh") return MeshFormat::Medit;
-  if (ext == ".stl") return MeshFormat::Stl;
-  if (ext == ".obj") return MeshFormat::Obj;
-  if (ext == ".vtk") return MeshFormat::Vtk;
+  for (const FormatInfo& f : kFormats)  // the first one per extension: .msh is 4.1
+    if (f.extension == ext) return f.format;
   return std::nullopt;
 }
 
-std::string known_mesh_extensions() { return ".msh, .mesh, .stl, .obj, .vtk"; }
+std::optional<MeshFormat> format_from_name(std::string_view name) {
+  for (const FormatInfo& f : kFormats)
+    if (f.name == name) return f.format;
+  return std::nullopt;
+}
 
-std::string_view format_name(MeshFormat f) {
-  switch (f) {
-    case MeshFormat::Msh41: return "msh41";
-    case MeshFormat::Medit: return "medit";
-    case MeshFormat::Stl: return "stl";
-    case MeshFormat::Obj: return "obj";
-    case MeshFormat::Vtk: return "vtk";
-  }
+std::string known_mesh_extensions() {
+  std::string s;
+  for (const FormatInfo& f : kFormats)
+    if (s.find(std::string(f.extension) + ",") == std::string::npos && !s.ends_with(f.extension))
+      s += (s.empty() ? "" : ", ") + std::string(f.extension);
+  return s;
+}
+
+std::string known_format_names() {
+  std::string s;
+  for (const FormatInfo& f : kFormats) s += (s.empty() ? "" : ", ") + std::string(f.name);
+  return s;
+}
+
+std::string_view format_name(MeshFormat fmt) {
+  for (const FormatInfo& f : kFormats)
+    if (f.format == fmt) return f.name;
   return "?";
 }
 
@@ -706,16 +1065,30 @@ WriteResult write_mesh(const surface::SurfaceMesh& m, const geom::Model* model,
 
   const std::optional<MeshFormat> fmt = opts.format ? opts.format : format_from_path(path);
   if (!fmt) return fail("unknown mesh file extension (known: " + known_mesh_extensions() + ")");
+  const MeshFormat f = *fmt;
+  const bool binary_only = f == MeshFormat::Meshb || f == MeshFormat::Drc || f == MeshFormat::Glb;
+  const bool has_binary = binary_only || f == MeshFormat::Msh41 || f == MeshFormat::Stl || f == MeshFormat::Ply ||
+                          f == MeshFormat::Vtk || f == MeshFormat::Vtu;
   const bool binary = opts.encoding == Encoding::Binary ||
-                      (opts.encoding == Encoding::Default && *fmt == MeshFormat::Stl);
-  if (binary && *fmt != MeshFormat::Stl && *fmt != MeshFormat::Vtk)
-    return fail("binary encoding is written for STL and VTK only, not " +
-                std::string(format_name(*fmt)));
-  // Legacy VTK and binary STL count in 32 bits.
-  if (*fmt == MeshFormat::Vtk && 4 * m.triangles.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
-    return fail("too many triangles for legacy VTK (32-bit sizes)");
-  if (*fmt == MeshFormat::Stl && m.triangles.size() > std::numeric_limits<std::uint32_t>::max())
+                      (opts.encoding == Encoding::Default &&
+                       (binary_only || f == MeshFormat::Stl || f == MeshFormat::Ply || f == MeshFormat::Vtu));
+  if (binary && !has_binary)
+    return fail("there is no binary form of " + std::string(format_name(f)) + " here");
+  if (binary_only && opts.encoding == Encoding::Ascii)
+    return fail(std::string(format_name(f)) + " has no ASCII form");
+  // Legacy VTK, VTU, binary STL, PLY and .meshb count in 32 bits.
+  const std::size_t int32_max = static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
+  if ((f == MeshFormat::Vtk || f == MeshFormat::Vtu) && 4 * m.triangles.size() > int32_max)
+    return fail("too many triangles for VTK (32-bit sizes)");
+  if (f == MeshFormat::Stl && m.triangles.size() > std::numeric_limits<std::uint32_t>::max())
     return fail("too many triangles for STL (32-bit count)");
+  if ((f == MeshFormat::Ply || f == MeshFormat::Meshb) && m.triangles.size() > int32_max)
+    return fail("too many triangles for 32-bit indices");
+  if (f == MeshFormat::Drc || f == MeshFormat::Glb) {
+    if (opts.draco_bits < 1 || opts.draco_bits > 30) return fail("Draco quantization bits must be 1..30");
+    if (opts.draco_level < 0 || opts.draco_level > 10) return fail("Draco compression level must be 0..10");
+    if (opts.draco_normal_bits < 1 || opts.draco_normal_bits > 30) return fail("Draco normal bits must be 1..30");
+  }
 
   Counts counts;
   if (std::string why = validate(m, model, counts); !why.empty()) return fail(why);
@@ -723,18 +1096,35 @@ WriteResult write_mesh(const surface::SurfaceMesh& m, const geom::Model* model,
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return fail("is a directory");
 
+  // Draco encodes in memory; the bytes then take the same atomic path as every format.
+  std::vector<char> encoded;
+  if (f == MeshFormat::Drc || f == MeshFormat::Glb) {
+    const std::string why = f == MeshFormat::Drc ? detail::encode_drc(m, opts, encoded)
+                                                 : detail::encode_glb(m, model, opts, encoded);
+    if (!why.empty()) return fail(why);
+  }
+
   TempFile tmp;
   if (std::string why = tmp.open(path); !why.empty()) return fail(why);
   Sink out(tmp.fd());
-  switch (*fmt) {
-    case MeshFormat::Msh41: write_msh41(out, m, model, counts); break;
+  const Physicals phys = physicals(model, counts, opts.physical_groups);
+  switch (f) {
+    case MeshFormat::Msh41: write_msh41(out, m, model, counts, phys, binary); break;
+    case MeshFormat::Msh22: write_msh22(out, m, phys); break;
     case MeshFormat::Medit: write_medit(out, m); break;
+    case MeshFormat::Meshb: write_meshb(out, m); break;
     case MeshFormat::Stl:
       if (binary) write_stl_binary(out, m);
       else write_stl_ascii(out, m);
       break;
     case MeshFormat::Obj: write_obj(out, m, counts); break;
+    case MeshFormat::Ply: write_ply(out, m, binary); break;
     case MeshFormat::Vtk: write_vtk(out, m, binary); break;
+    case MeshFormat::Vtu: write_vtu(out, m, binary); break;
+    case MeshFormat::Poly: write_tetgen(out, m, false); break;
+    case MeshFormat::Smesh: write_tetgen(out, m, true); break;
+    case MeshFormat::Drc:
+    case MeshFormat::Glb: out.raw(encoded.data(), encoded.size()); break;
   }
   out.flush();
   if (out.error() != 0) return fail(std::string("write failed: ") + std::strerror(out.error()));

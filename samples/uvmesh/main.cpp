@@ -1,6 +1,7 @@
 // uvmesh -- command-line front end. Subcommands:
 //   uvmesh info MODEL [--json] [--no-heal] [--conform] [--any-extension] [--units UNIT]
 //   uvmesh mesh MODEL -o OUT [size options] [--report FILE.json]   (mesh_cmd.cpp)
+//   uvmesh check MESH [--model MODEL] [--json] [--svg DIR] [--face N] (check_cmd.cpp)
 //
 // Exit codes: 0 success, 2 the model could not be read (one line on stderr naming the
 // file and the defect), 1 command-line errors.
@@ -13,6 +14,7 @@
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/info.h"
 #include "uvmesh/io/units.h"
+#include "check_cmd.h"
 #include "mesh_cmd.h"
 #include "read_flags.h"
 
@@ -50,10 +52,14 @@ int main(int argc, char** argv) {
   uvmesh::cli::MeshFlags mesh_flags;
   CLI::App* mesh = uvmesh::cli::add_mesh_command(app, mesh_flags);
 
+  uvmesh::cli::CheckFlags check_flags;
+  CLI::App* check = uvmesh::cli::add_check_command(app, check_flags);
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (info->parsed()) return run_info(info_flags, info_json);
     if (mesh->parsed()) return uvmesh::cli::run_mesh(mesh_flags);
+    if (check->parsed()) return uvmesh::cli::run_check(check_flags);
   } catch (const std::exception& e) {
     std::cerr << "uvmesh: error: " << e.what() << "\n";
     return 2;

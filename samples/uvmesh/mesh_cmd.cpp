@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "uvmesh/io/mesh_writer.h"
+#include "uvmesh/io/report.h"
 #include "uvmesh/surface/check3d.h"
 #include "uvmesh/surface/mesher.h"
 
@@ -106,6 +107,7 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_flag("--no-optimize3d", f.no_optimize3d, "skip the 3D swaps and smoothing");
   c->add_flag("--no-selfint", f.no_selfint, "skip the self-intersection check of the report");
   c->add_flag("-q,--quiet", f.quiet, "no summary line");
+  add_write_flags(c, f.write);
   return c;
 }
 
@@ -119,7 +121,8 @@ int run_mesh(const MeshFlags& f) {
   }
   const double t_read = since(t0);
   const geom::Model& model = rr.model;
-  const auto fmt = io::format_from_path(f.out);
+  const io::WriteOptions wo = write_options(f.write);
+  const auto fmt = wo.format ? wo.format : io::format_from_path(f.out);
   if (!fmt) {
     std::cerr << "uvmesh: error: " << f.out << ": unknown mesh extension (known: " << io::known_mesh_extensions()
               << ")\n";
@@ -190,7 +193,7 @@ int run_mesh(const MeshFlags& f) {
 
   // ---- write (atomic: temporary file renamed over the target)
   t0 = Clock::now();
-  const io::WriteResult wr = io::write_mesh(r.mesh, &model, f.out);
+  const io::WriteResult wr = io::write_mesh(r.mesh, &model, f.out, wo);
   const double t_write = since(t0);
   if (!wr.ok) {
     std::cerr << "uvmesh: error: " << wr.error << "\n";
@@ -203,12 +206,15 @@ int run_mesh(const MeshFlags& f) {
   std::size_t free_edges = 0, nonman = 0;
   if (!f.report.empty()) {
     t0 = Clock::now();
-    const surface::TopologyReport topo = surface::check_topology(r.mesh);
-    free_edges = topo.free_edges;
-    nonman = topo.non_manifold_edges;
-    const surface::QualityReport q = surface::measure_quality(r.mesh, 20);
-    const surface::ChordalReport ch = surface::measure_chordal(r.mesh, model, f.threads);
-    nlohmann::json j;
+    // The report of `uvmesh check` (io/report.h), plus what only the mesher knows.
+    io::CheckOptions co;
+    co.threads = f.threads;
+    co.self_intersections = !f.no_selfint;
+    co.chordal_tolerance = o.size.chordal_tol;
+    const io::CheckData cd = io::check_mesh(r.mesh, &model, co);
+    free_edges = cd.topology.free_edges;
+    nonman = cd.topology.non_manifold_edges;
+    nlohmann::json j = io::report_json(cd);
     j["model"] = f.read.model;
     j["output"] = f.out;
     j["units"] = model.units;
@@ -219,80 +225,16 @@ int run_mesh(const MeshFlags& f) {
                  {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
                  {"gradation", o.size.gradation},
                  {"isotropic", o.size.isotropic}};
-    j["counts"] = {{"points", r.mesh.points.size()},    {"triangles", r.mesh.triangles.size()},
-                   {"segments", r.mesh.segments.size()}, {"faces", model.faces.size()},
-                   {"edges", model.edges.size()},        {"faces_failed", r.failed.size()}};
+    j["counts"]["faces"] = model.faces.size();
+    j["counts"]["edges"] = model.edges.size();
+    j["counts"]["faces_failed"] = r.failed.size();
     nlohmann::json sec = {{"read", t_read}, {"mesh", t_mesh}, {"write", t_write}};
     for (const auto& s : r.stages) sec["mesh_" + s.name] = s.seconds;
-    j["quality"] = {{"share_Q_lt_1_5", q.share_Q_lt_1_5},
-                    {"share_Q_lt_2", q.share_Q_lt_2},
-                    {"share_Q_lt_3", q.share_Q_lt_3},
-                    {"q_min", q.q_min},
-                    {"q_p1", q.q_p1},
-                    {"q_p5", q.q_p5},
-                    {"q_p50", q.q_p50},
-                    {"q_mean", q.q_mean},
-                    {"Q_p50", q.Q_p50},
-                    {"Q_p95", q.Q_p95},
-                    {"Q_p99", q.Q_p99},
-                    {"Q_max", q.Q_max},
-                    {"min_angle_deg", q.min_angle_deg},
-                    {"max_angle_deg", q.max_angle_deg},
-                    {"bad_at_corners", q.bad_at_corners},
-                    {"bad_away_from_corners", q.bad_away_from_corners}};
-    nlohmann::json bad = nlohmann::json::array();
-    for (const auto& b : q.bad_list) bad.push_back({{"triangle", b.triangle}, {"face", b.face}, {"Q", b.Q}});
-    j["quality"]["bad_list"] = bad;
     // Unit edges are measured face by face, in the metric each face was meshed for.
     std::int64_t ne = 0, ns = 0, nl = 0;
     for (const auto& fs : r.faces) ne += fs.edges, ns += fs.short_edges, nl += fs.long_edges;
     j["unit_edge_share"] = r.unit_edge_share();
     j["edge_lengths"] = {{"edges", ne}, {"short", ns}, {"long", nl}};
-    const double tol = o.size.chordal_tol;
-    j["chordal"] = {{"max", ch.max},
-                    {"mean", ch.mean},
-                    {"tolerance", tol},
-                    {"within_tolerance", tol > 0 ? ch.max <= tol : true},
-                    {"samples", ch.samples},
-                    {"not_converged", ch.not_converged},
-                    {"worst_face", ch.worst.face},
-                    {"worst_point", {ch.worst.x.x, ch.worst.x.y, ch.worst.x.z}}};
-    nlohmann::json topo_j = {{"edges", topo.edges},
-                             {"free_edges", topo.free_edges},
-                             {"non_manifold_edges", topo.non_manifold_edges},
-                             {"inconsistent_edges", topo.inconsistent_edges},
-                             {"degenerate_triangles", topo.degenerate_triangles},
-                             {"close_points", topo.close_points.pairs},
-                             {"euler_characteristic", topo.euler_characteristic}};
-    // Free mesh edges on free model edges (open shells) are expected; the others are not.
-    std::size_t free_on_model_free = 0;
-    {
-      const auto ef = geom::edge_faces(model);
-      std::vector<char> model_free(model.edges.size(), 0);
-      for (std::size_t e = 0; e < model.edges.size(); ++e) model_free[e] = ef[e].size() <= 1;
-      std::map<std::pair<surface::NodeId, surface::NodeId>, int> use;
-      for (const auto& t : r.mesh.triangles)
-        for (int i = 0; i < 3; ++i) {
-          auto a = t[i], b = t[(i + 1) % 3];
-          if (a > b) std::swap(a, b);
-          ++use[{a, b}];
-        }
-      for (const auto& s : r.mesh.segments) {
-        auto a = s.a, b = s.b;
-        if (a > b) std::swap(a, b);
-        auto it = use.find({a, b});
-        if (it != use.end() && it->second == 1 && model_free[static_cast<std::size_t>(s.edge)]) ++free_on_model_free;
-      }
-    }
-    topo_j["free_edges_on_open_model_edges"] = free_on_model_free;
-    if (!f.no_selfint) {
-      const surface::IntersectionReport si = surface::find_self_intersections(r.mesh, 20, f.threads);
-      topo_j["self_intersections"] = si.intersecting_pairs;
-      nlohmann::json pairs = nlohmann::json::array();
-      for (const auto& p : si.pairs) pairs.push_back({{"t0", p.t0}, {"f0", p.f0}, {"t1", p.t1}, {"f1", p.f1}});
-      topo_j["self_intersection_list"] = pairs;
-    }
-    j["topology"] = topo_j;
     nlohmann::json failed = nlohmann::json::array();
     for (const auto& ff : r.failed) failed.push_back({{"face", ff.face}, {"reason", ff.reason}});
     j["failed_faces"] = failed;

@@ -7,11 +7,13 @@
 #include <vector>
 
 #include "read_flags.h"
+#include "write_flags.h"
 
 namespace uvmesh::cli {
 
 struct MeshFlags {
   ReadFlags read;
+  WriteFlags write;
   std::string out;
   std::string report;
   double hmax = 0, hmin = 0, chordal = 0, angle_deg = 0, grad = 0;

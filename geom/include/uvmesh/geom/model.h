@@ -69,6 +69,7 @@ struct Face {
   bool valid = true;  ///< CAD validity (OCC BRepCheck) when checked
   std::string invalid_reason;
   Id shell = kNone;  ///< first shell containing the face, kNone for a loose face
+  std::string name;  ///< the CAD system's name (STEP entity name), "" when it has none
 };
 
 struct Shell {
@@ -78,6 +79,7 @@ struct Shell {
 
 struct Solid {
   std::vector<Id> shells;
+  std::string name;  ///< the CAD system's name (STEP entity name), "" when it has none
 };
 
 struct Model {

@@ -6,20 +6,37 @@
 //
 // The format comes from the extension (format_from_path) unless WriteOptions::format says
 // otherwise:
-//   .msh   Gmsh 4.1 ASCII with $Entities: one surface entity per CAD face (tag = face id+1),
-//          one curve per model edge (edge id+1), one point per model vertex (vertex id+1),
-//          one volume per solid (solid id+1); nodes in entity blocks, node tag = index+1;
-//          point (type 15), 2-node line (type 1) and triangle (type 2) elements; no physical
-//          groups, so that Gmsh keeps every element when it re-saves the file.
+//   .msh   Gmsh 4.1 (ASCII, or binary with Encoding::Binary) with $Entities: one surface
+//          entity per CAD face (tag = face id+1), one curve per model edge (edge id+1), one
+//          point per model vertex (vertex id+1), one volume per solid (solid id+1); nodes in
+//          entity blocks, node tag = index+1; point (type 15), 2-node line (type 1) and
+//          triangle (type 2) elements. Physical groups (WriteOptions::physical_groups, with
+//          a model): one volume group per solid (named after the solid, else "solid_<id+1>")
+//          and one surface group per distinct face name. Gmsh re-saves only the elements
+//          of physical groups unless told -save_all.
+//   msh22  Gmsh 2.2 ASCII (format "msh22"): elementary tag = entity tag as above, physical
+//          tag = the face's named group (0 when none); $PhysicalNames for the named ones.
 //   .mesh  Medit ASCII (MeshVersionFormatted 2: double coordinates), with the references
-//          described at write_mesh.
+//          described at write_mesh. .meshb: the same, binary (libMeshb version 3: double
+//          reals, 32-bit integers, 64-bit keyword positions).
 //   .stl   binary STL (ASCII with Encoding::Ascii); normals from the triangle corners.
 //   .obj   Wavefront OBJ: v lines, then one `g face_<id>` group of f lines per CAD face.
+//   .ply   PLY binary little-endian: double x y z; faces with int vertex_indices and an int
+//          face_id property (ASCII with Encoding::Ascii).
 //   .vtk   legacy VTK UNSTRUCTURED_GRID, VTK_TRIANGLE cells, CELL_DATA int `face_id`;
 //          ASCII, or big-endian binary with Encoding::Binary.
+//   .vtu   VTK XML UnstructuredGrid, inline base64 binary arrays (ASCII arrays with
+//          Encoding::Ascii), Int32 cell data `face_id`.
+//   .poly  TetGen piecewise linear complex: the nodes, one single-triangle facet per
+//   .smesh triangle with boundary marker = face id+1, no holes, no regions.
+//   .drc   Draco mesh: positions, per-vertex normals, per-vertex generic attribute face_id
+//          (vertices on face boundaries are split, one copy per face); quantization bits
+//          and compression level from WriteOptions (draco_io.cpp).
+//   .glb   glTF 2.0 binary, geometry compressed with KHR_draco_mesh_compression by Draco's
+//          own glTF encoder; one mesh per solid (or per face with GlbGroups::Face).
 //
 // Every ASCII number is written with std::to_chars (shortest form that reads back to the
-// same double), so .msh, .mesh, .obj and .vtk round-trip coordinates bit for bit.
+// same double), so .msh, .mesh, .obj, .ply and .vtk/.vtu round-trip coordinates bit for bit.
 //
 // Writes are atomic: the file is written beside the target under a temporary name and
 // renamed over it only when every byte has been written and the file is closed. A failed
@@ -36,27 +53,46 @@
 
 namespace uvmesh::io {
 
-enum class MeshFormat { Msh41, Medit, Stl, Obj, Vtk };
+enum class MeshFormat { Msh41, Msh22, Medit, Meshb, Stl, Obj, Ply, Vtk, Vtu, Poly, Smesh, Drc, Glb };
 
-/// The format for a file name's extension (case-insensitive): .msh .mesh .stl .obj .vtk.
-/// nullopt for any other extension or none.
+/// The format for a file name's extension (case-insensitive): .msh .mesh .meshb .stl .obj
+/// .ply .vtk .vtu .poly .smesh .drc .glb. nullopt for any other extension or none.
 std::optional<MeshFormat> format_from_path(const std::string& path);
 
-/// ".msh, .mesh, .stl, .obj, .vtk" -- for help texts and "unknown extension" messages.
+/// The format of a short name (format_name), e.g. "msh22"; nullopt when unknown.
+std::optional<MeshFormat> format_from_name(std::string_view name);
+
+/// ".msh, .mesh, ..." -- for help texts and "unknown extension" messages.
 std::string known_mesh_extensions();
 
-/// Short name of a format: "msh41", "medit", "stl", "obj", "vtk".
+/// "msh41, msh22, ..." -- every short name, for help texts.
+std::string known_format_names();
+
+/// Short name of a format: "msh41", "msh22", "medit", "meshb", "stl", "obj", "ply", "vtk",
+/// "vtu", "poly", "smesh", "drc", "glb".
 std::string_view format_name(MeshFormat f);
 
 enum class Encoding {
-  Default,  ///< binary for STL, ASCII for the others
-  Ascii,
-  Binary,   ///< STL and VTK only; an error for the others
+  Default,  ///< binary for STL, PLY, VTU, .meshb, .drc and .glb; ASCII for the others
+  Ascii,    ///< an error for .meshb, .drc and .glb
+  Binary,   ///< .msh 4.1, STL, PLY, VTK, VTU (and the binary-only formats)
 };
+
+/// What one glTF mesh holds.
+enum class GlbGroups { Solid, Face };
 
 struct WriteOptions {
   std::optional<MeshFormat> format;  ///< overrides the extension when set
   Encoding encoding = Encoding::Default;
+  /// .msh: physical groups per solid and per face name (needs a model; Gmsh then keeps only
+  /// grouped elements when it re-saves, see above).
+  bool physical_groups = true;
+  /// Draco (.drc, .glb): position quantization bits (1..30) and compression level 0..10
+  /// (Draco's speed is 10 - level: 10 compresses most). Normals use normal_bits.
+  int draco_bits = 14;
+  int draco_level = 7;
+  int draco_normal_bits = 10;
+  GlbGroups glb_groups = GlbGroups::Solid;
 };
 
 struct WriteResult {

@@ -1,0 +1,84 @@
+// uvmesh::io quality report -- the one JSON report that `uvmesh check MESH` prints and
+// `uvmesh mesh --report` writes (the mesh command adds what only it knows: sizes, times,
+// failed faces, unit edges in the mesher's metric). The measures themselves are the
+// surface stage's 3D checks (surface/check3d.h); this file only gathers and formats them.
+//
+//   io::CheckData d = io::check_mesh(mesh, &model, {});
+//   nlohmann::json j = io::report_json(d);
+//   std::string svg = io::histogram_svg(d.q_histogram, "shape quality q", "q");
+//
+// JSON sections: counts, quality (Q and q percentiles, angles, bad triangles), topology
+// (free / non-manifold / inconsistently oriented edges, components, Euler characteristic,
+// close points, self-intersections), edge_length_distribution (3D lengths relative to the
+// median edge), chordal (against the model, when given), histograms.
+#pragma once
+
+#include <cstddef>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "uvmesh/geom/model.h"
+#include "uvmesh/surface/check3d.h"
+#include "uvmesh/surface/surface_mesh.h"
+
+namespace uvmesh::io {
+
+struct CheckOptions {
+  int threads = 0;                  ///< 0 = all cores (self-intersections, chordal)
+  bool self_intersections = true;
+  int max_list = 20;                ///< cap of every list in the report
+  double chordal_tolerance = 0.0;   ///< 0 = no bound to compare with
+};
+
+/// Counts per bin; bin i covers [lo[i], lo[i+1]), the last bin ends at `hi`.
+struct Histogram {
+  std::vector<double> lo;
+  double hi = 0;
+  std::vector<std::size_t> count;
+};
+
+struct CheckData {
+  std::size_t points = 0, triangles = 0, segments = 0;
+  surface::TopologyReport topology;
+  std::size_t components = 0;  ///< edge-connected components of the triangles
+  /// Free mesh edges lying on model edges used by at most one face (open shells: expected);
+  /// set only with a model.
+  std::optional<std::size_t> free_edges_on_open_model_edges;
+  std::optional<surface::IntersectionReport> intersections;
+  surface::QualityReport quality;
+  double median_edge = 0;                 ///< 3D length of the median unique edge
+  surface::EdgeLengthReport edge_lengths;  ///< lengths / median_edge (bins: check3d.h)
+  std::optional<surface::ChordalReport> chordal;
+  std::string chordal_unavailable;  ///< why chordal is not measured although a model was given
+  double chordal_tolerance = 0;
+  Histogram q_histogram;       ///< q = 1/Q of every triangle, 20 bins on [0, 1]
+  Histogram angle_histogram;   ///< every triangle angle, 18 bins of 10 degrees
+  Histogram edge_histogram;    ///< edge length / median (log2 half-octave bins)
+};
+
+/// Runs every check on m. With a model, chordal deviation is measured when the mesh
+/// carries (u,v) per triangle corner (attach_uv supplies them for a mesh read from a
+/// file) and its face ids name the model's faces.
+CheckData check_mesh(const surface::SurfaceMesh& m, const geom::Model* model, const CheckOptions& opt = {});
+
+/// The report of check_mesh as JSON (see the file comment for the sections).
+nlohmann::json report_json(const CheckData& d);
+
+/// Fills m.triangle_uv for a mesh read from a file, so that chordal deviation and the
+/// (u,v) picture of a face can be computed: each node of a face is projected on that
+/// face's surface (surface::project_to_surface) from the nearest point of a sampling grid
+/// of the face's (u,v) box; in periodic directions a triangle's corners are moved to the
+/// same period as its first corner. Returns "" or why it could not (a face id the model
+/// does not have). Faces without a surface keep (0,0).
+std::string attach_uv(surface::SurfaceMesh& m, const geom::Model& model);
+
+/// An SVG bar chart of a histogram (self-contained, no scripts or external fonts).
+std::string histogram_svg(const Histogram& h, const std::string& title, const std::string& x_label);
+
+/// An SVG picture of one face's mesh in its (u,v) domain, triangles shaded by shape
+/// quality q (red = poor). Needs m.triangle_uv; "" when the face has no triangles.
+std::string face_uv_svg(const surface::SurfaceMesh& m, geom::Id face);
+
+}  // namespace uvmesh::io

@@ -1,0 +1,166 @@
+// `uvmesh check MESH`: read a mesh file (io/mesh_reader.h), run the report checks
+// (io/report.h, the same report `uvmesh mesh --report` writes), print it as text or
+// JSON, and optionally draw SVG histograms and a face's (u,v) mesh.
+//
+// Exit codes: 0 the mesh was checked (whatever it holds); 1 command-line error; 2 the
+// mesh or the model could not be read (one line on stderr: file, where, problem); 4 an
+// SVG could not be written.
+#include "check_cmd.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "uvmesh/io/cad_reader.h"
+#include "uvmesh/io/mesh_reader.h"
+#include "uvmesh/io/report.h"
+
+namespace uvmesh::cli {
+
+namespace {
+
+bool write_file(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+  out.close();
+  return static_cast<bool>(out);
+}
+
+}  // namespace
+
+CLI::App* add_check_command(CLI::App& app, CheckFlags& f) {
+  CLI::App* c = app.add_subcommand(
+      "check",
+      "grade a surface mesh: topology (free, non-manifold, inconsistently oriented edges, components),\n"
+      "self-intersections, shape quality (Q, q, angles), edge lengths, chordal deviation against the\n"
+      "CAD model (--model; the mesh's face ids must be the model's, as uvmesh writes them)");
+  c->add_option("MESH", f.mesh, "mesh file (" + io::readable_mesh_extensions() + ")")->required();
+  c->add_option("--format", f.format, "read as this format instead of the extension's (msh41, medit, meshb, stl, obj, ply, drc)");
+  c->add_option("--model", f.model.model, "CAD model the mesh was made from (STEP, IGES, BREP)");
+  c->add_flag("--no-heal", f.model.no_heal, "read the model without healing (as `uvmesh mesh --no-heal` did)");
+  c->add_flag("--conform", f.model.conform, "read the model made conforming (as `uvmesh mesh --conform` did)");
+  c->add_option("--chordal", f.chordal, "chordal tolerance to compare the deviation with")->check(CLI::PositiveNumber);
+  c->add_flag("--json", f.json, "the JSON report on stdout");
+  c->add_option("--svg", f.svg_dir, "write histograms of quality, angles and edge sizes as SVG into DIR");
+  c->add_option("--face", f.face, "with --svg: also draw face N's mesh in its (u,v) domain (needs --model for a file without (u,v))")
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--threads", f.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  c->add_flag("--no-selfint", f.no_selfint, "skip the self-intersection search");
+  return c;
+}
+
+int run_check(const CheckFlags& f) {
+  io::MeshReadOptions ro;
+  if (!f.format.empty()) {
+    ro.format = io::format_from_name(f.format);
+    if (!ro.format) {
+      std::cerr << "uvmesh: error: unknown format '" << f.format << "' (known: " << io::known_format_names() << ")\n";
+      return 1;
+    }
+  }
+  if (f.face >= 0 && f.svg_dir.empty()) {
+    std::cerr << "uvmesh: error: --face draws into the --svg directory; give --svg DIR\n";
+    return 1;
+  }
+  io::MeshReadResult mr = io::read_mesh(f.mesh, ro);
+  if (!mr.ok) {
+    std::cerr << "uvmesh: error: " << mr.error << "\n";
+    return 2;
+  }
+  for (const std::string& w : mr.warnings) std::cerr << "uvmesh: warning: " << f.mesh << ": " << w << "\n";
+
+  io::ReadResult model;
+  if (!f.model.model.empty()) {
+    model = io::read_cad(f.model.model, read_options(f.model));
+    if (!model.ok) {
+      std::cerr << "uvmesh: error: " << model.error << "\n";
+      return 2;
+    }
+    if (!mr.has_face_ids) {
+      std::cerr << "uvmesh: warning: " << f.mesh << ": the file carries no face ids; chordal deviation is not measured\n";
+    } else if (std::string why = io::attach_uv(mr.mesh, model.model); !why.empty()) {
+      std::cerr << "uvmesh: warning: " << f.mesh << ": " << why << "; chordal deviation is not measured\n";
+      mr.mesh.triangle_uv.clear();
+    }
+  }
+
+  io::CheckOptions co;
+  co.threads = f.threads;
+  co.self_intersections = !f.no_selfint;
+  co.chordal_tolerance = f.chordal;
+  const io::CheckData d = io::check_mesh(mr.mesh, model.ok ? &model.model : nullptr, co);
+  nlohmann::json j = io::report_json(d);
+  j["mesh"] = f.mesh;
+  j["format"] = std::string(io::format_name(mr.format));
+  if (model.ok) j["model"] = f.model.model;
+
+  if (!f.svg_dir.empty()) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(f.svg_dir, ec);
+    const fs::path dir(f.svg_dir);
+    struct Picture {
+      const char* file;
+      std::string svg;
+    };
+    std::vector<Picture> pics = {
+        {"quality_q.svg", io::histogram_svg(d.q_histogram, "shape quality q = 1/Q (1 = equilateral)", "q")},
+        {"angles.svg", io::histogram_svg(d.angle_histogram, "triangle angles", "degrees")},
+        {"edge_length.svg", io::histogram_svg(d.edge_histogram, "edge length / median edge (" + std::to_string(d.median_edge) + ")",
+                                              "length / median (half-octave bins)")}};
+    if (f.face >= 0) {
+      if (mr.mesh.triangle_uv.size() != mr.mesh.triangles.size()) {
+        std::cerr << "uvmesh: error: --face " << f.face << ": the mesh has no (u,v); give --model (and a mesh with face ids)\n";
+        return 1;
+      }
+      std::string svg = io::face_uv_svg(mr.mesh, f.face);
+      if (svg.empty()) {
+        std::cerr << "uvmesh: error: --face " << f.face << ": no triangles on that face\n";
+        return 1;
+      }
+      pics.push_back({"face_uv.svg", std::move(svg)});
+    }
+    for (const Picture& p : pics) {
+      const fs::path path = dir / (f.face >= 0 && std::string(p.file) == "face_uv.svg"
+                                       ? "face_" + std::to_string(f.face) + "_uv.svg"
+                                       : std::string(p.file));
+      if (!write_file(path, p.svg)) {
+        std::cerr << "uvmesh: error: " << path.string() << ": cannot write\n";
+        return 4;
+      }
+      j["svg"].push_back(path.string());
+    }
+  }
+
+  if (f.json) {
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  const auto& t = d.topology;
+  const auto& q = d.quality;
+  std::cout << f.mesh << " (" << io::format_name(mr.format) << "): " << d.points << " points, " << d.triangles
+            << " triangles, " << d.segments << " segments\n";
+  std::cout << "topology: " << t.edges << " edges, " << t.free_edges << " free, " << t.non_manifold_edges
+            << " non-manifold, " << t.inconsistent_edges << " inconsistently oriented; " << d.components
+            << " component(s); Euler characteristic " << t.euler_characteristic << "; " << t.degenerate_triangles
+            << " degenerate triangles; " << t.close_points.pairs << " close point pairs"
+            << (t.watertight() ? "; watertight" : "") << "\n";
+  if (d.intersections) std::cout << "self-intersections: " << d.intersections->intersecting_pairs << " triangle pairs\n";
+  std::cout << "quality: Q max " << q.Q_max << ", p95 " << q.Q_p95 << ", p50 " << q.Q_p50 << "; q min " << q.q_min
+            << ", mean " << q.q_mean << "; " << 100.0 * q.share_Q_lt_1_5 << "% with Q < 1.5; angles "
+            << q.min_angle_deg << " .. " << q.max_angle_deg << " deg\n";
+  std::cout << "edge lengths: median " << d.median_edge << ", min " << d.edge_lengths.min * d.median_edge << ", max "
+            << d.edge_lengths.max * d.median_edge << "; " << 100.0 * d.edge_lengths.unit_share
+            << "% within sqrt(2) of the median\n";
+  if (d.chordal)
+    std::cout << "chordal deviation: max " << d.chordal->max << ", mean " << d.chordal->mean << " (face "
+              << d.chordal->worst.face << ")\n";
+  else if (!d.chordal_unavailable.empty())
+    std::cout << "chordal deviation: not measured (" << d.chordal_unavailable << ")\n";
+  if (j.contains("svg"))
+    for (const auto& p : j["svg"]) std::cout << "wrote " << p.get<std::string>() << "\n";
+  return 0;
+}
+
+}  // namespace uvmesh::cli

@@ -1,0 +1,28 @@
+// `uvmesh check MESH [--model MODEL] [--json] [--svg DIR] [--face N]`: grade any surface
+// mesh (check_cmd.cpp).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "read_flags.h"
+
+namespace uvmesh::cli {
+
+struct CheckFlags {
+  std::string mesh;
+  std::string format;  ///< overrides the extension
+  ReadFlags model;     ///< model.model = "" when no --model
+  bool json = false;
+  std::string svg_dir;
+  int face = -1;
+  int threads = 0;
+  bool no_selfint = false;
+  double chordal = 0;
+};
+
+CLI::App* add_check_command(CLI::App& app, CheckFlags& f);
+int run_check(const CheckFlags& f);
+
+}  // namespace uvmesh::cli
