@@ -19,6 +19,8 @@
 #include <Message_PrinterOStream.hxx>
 #include <OSD.hxx>
 #include <STEPControl_Reader.hxx>
+#include <ShapeBuild_ReShape.hxx>
+#include <StepRepr_RepresentationItem.hxx>
 #include <ShapeFix_Shape.hxx>
 #include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
@@ -30,6 +32,10 @@
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Shape.hxx>
+#include <TransferBRep.hxx>
+#include <Transfer_TransientProcess.hxx>
+#include <XSControl_TransferReader.hxx>
+#include <XSControl_WorkSession.hxx>
 
 #include <algorithm>
 #include <chrono>
@@ -37,6 +43,7 @@
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "uvmesh/geom/occ.h"
@@ -186,6 +193,60 @@ std::string target_unit(const std::string& requested, const std::string& declare
   return "mm";
 }
 
+// Names the CAD system gave faces and solids (STEP entity names), attached to the shapes
+// they became, and carried through healing so that the model's faces and solids get them
+// (io::write_mesh turns them into physical groups).
+struct ShapeNames {
+  std::vector<std::pair<TopoDS_Shape, std::string>> items;
+
+  // Every transferred STEP entity whose result is a face or a solid and whose name is not
+  // empty: one pass over the transfer map, no per-shape search.
+  void collect(const STEPControl_Reader& reader) {
+    const Handle(XSControl_TransferReader) tr = reader.WS()->TransferReader();
+    if (tr.IsNull()) return;
+    const Handle(Transfer_TransientProcess) tp = tr->TransientProcess();
+    if (tp.IsNull()) return;
+    for (int i = 1; i <= tp->NbMapped(); ++i) {
+      const Handle(StepRepr_RepresentationItem) item = Handle(StepRepr_RepresentationItem)::DownCast(tp->Mapped(i));
+      // "NONE" is the placeholder several CAD systems write for "no name".
+      if (item.IsNull() || item->Name().IsNull() || item->Name()->Length() == 0 ||
+          item->Name()->IsSameString(new TCollection_HAsciiString("NONE")))
+        continue;
+      const Handle(Transfer_Binder) binder = tp->MapItem(i);
+      if (binder.IsNull()) continue;
+      const TopoDS_Shape sh = TransferBRep::ShapeResult(binder);
+      if (sh.IsNull() || (sh.ShapeType() != TopAbs_FACE && sh.ShapeType() != TopAbs_SOLID)) continue;
+      items.emplace_back(sh, item->Name()->ToCString());
+    }
+  }
+  // After a healing step: each named shape becomes what the step made of it (a split
+  // face passes its name to every piece; a removed one loses it).
+  template <class Map>
+  void follow(Map&& image_of) {
+    std::vector<std::pair<TopoDS_Shape, std::string>> next;
+    for (const auto& [sh, name] : items)
+      for (const TopoDS_Shape& im : image_of(sh)) next.emplace_back(im, name);
+    items = std::move(next);
+  }
+  void apply(const TopoDS_Shape& shape, geom::Model& model) const {
+    if (items.empty()) return;
+    // Matched by TShape: an assembly places one part's faces several times (other
+    // locations, same TShape), and every instance carries the part's names.
+    std::unordered_map<const TopoDS_TShape*, const std::string*> name_of;
+    for (const auto& [sh, name] : items) name_of.emplace(sh.TShape().get(), &name);
+    TopTools_IndexedMapOfShape faces, solids;
+    // The same maps (same order) as geom::model_from_occ numbers faces and solids with.
+    TopExp::MapShapes(shape, TopAbs_FACE, faces);
+    TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+    for (int i = 1; i <= faces.Extent() && i <= static_cast<int>(model.faces.size()); ++i)
+      if (auto it = name_of.find(faces(i).TShape().get()); it != name_of.end())
+        model.faces[static_cast<std::size_t>(i - 1)].name = *it->second;
+    for (int i = 1; i <= solids.Extent() && i <= static_cast<int>(model.solids.size()); ++i)
+      if (auto it = name_of.find(solids(i).TShape().get()); it != name_of.end())
+        model.solids[static_cast<std::size_t>(i - 1)].name = *it->second;
+  }
+};
+
 // Reads the file into a shape, with coordinates in `units` (set here: the requested unit,
 // else the file's); sets report.format / file_units / mm_per_unit. Throws Standard_Failure
 // or returns an error message.
@@ -198,7 +259,7 @@ std::string target_unit(const std::string& requested, const std::string& declare
 // OCCT 7.6 ignores Interface_Static "xstep.cascade.unit" in these readers (checked: a STEP
 // file in cm still comes out in mm with it set to CM).
 std::string read_shape(const std::string& path, CadFormat fmt, const std::string& requested, TopoDS_Shape& shape,
-                       ReadReport& rep, std::string& units) {
+                       ReadReport& rep, std::string& units, ShapeNames& shape_names) {
   rep.format = std::string(to_string(fmt));
   if (fmt == CadFormat::Step) {
     STEPControl_Reader reader;
@@ -226,6 +287,7 @@ std::string read_shape(const std::string& path, CadFormat fmt, const std::string
     ScopedTransferTolerances tol(rep.mm_per_unit);
     reader.TransferRoots();
     shape = reader.OneShape();
+    shape_names.collect(reader);
   } else if (fmt == CadFormat::Iges) {
     IGESControl_Reader reader;
     if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return "the IGES reader rejected the file";
@@ -301,10 +363,11 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
   prepare_occ(opt);
   TopoDS_Shape shape;
   std::string units;
+  ShapeNames names;
   std::string stage = "reading";
   try {
     OCC_CATCH_SIGNALS
-    if (std::string e = read_shape(path, pre.content, requested_units, shape, res.report, units); !e.empty())
+    if (std::string e = read_shape(path, pre.content, requested_units, shape, res.report, units, names); !e.empty())
       return fail(e);
     res.report.read_seconds = seconds_since(t0);
 
@@ -341,6 +404,12 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
         if (h.applied) {
           shape = fixed;
           c0 = c1;
+          const Handle(ShapeBuild_ReShape) ctx = fix.Context();
+          if (!ctx.IsNull())
+            names.follow([&](const TopoDS_Shape& s) {
+              const TopoDS_Shape v = ctx->Value(s);
+              return v.IsNull() ? std::vector<TopoDS_Shape>{} : std::vector<TopoDS_Shape>{v};
+            });
         }
         h.seconds = seconds_since(ts);
         res.report.healing.push_back(h);
@@ -369,6 +438,9 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
           if (h.applied) {
             shape = sewn;
             c0 = c1;
+            names.follow([&](const TopoDS_Shape& s) {
+              return std::vector<TopoDS_Shape>{sew.IsModified(s) ? sew.Modified(s) : s};
+            });
           }
         } else {
           h = make_step("sewing", c0, c0);
@@ -402,6 +474,12 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
         h.detail = "general fuse of " + std::to_string(solids.Extent()) + " solids: " + counts_text(h);
         shape = out;
         c0 = c1;
+        names.follow([&](const TopoDS_Shape& s) {
+          std::vector<TopoDS_Shape> images;
+          for (const TopoDS_Shape& im : fuse.Modified(s)) images.push_back(im);
+          if (images.empty() && !fuse.IsDeleted(s)) images.push_back(s);
+          return images;
+        });
       } else {
         h = make_step("conform", c0, c0);
         h.detail = "general fuse failed; the assembly is left non-conforming";
@@ -420,6 +498,7 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     mo.check_validity = opt.check_validity;
     res.report.validity_checked = opt.check_validity;
     res.model = geom::model_from_occ(shape, mo);
+    names.apply(shape, res.model);
     res.report.build_seconds = seconds_since(tb);
   } catch (const Standard_Failure& f) {
     return fail("OpenCASCADE failed while " + stage + ": " + occ_message(f));
