@@ -481,6 +481,9 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
         break;
       }
 
+  r.cage_vertex.assign(cage.points.size(), kNone);
+  for (std::size_t v = 0; v < vtx_of_base.size() && v < cage.points.size(); ++v) r.cage_vertex[v] = vtx_of_base[v];
+
   // ---- bounding box of the limit surface (sampled: the cage's box is larger)
   for (const Face& fc : m.faces) {
     constexpr int ns = 8;

@@ -7,8 +7,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -17,6 +20,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "uvmesh/geom/subd.h"
 #include "uvmesh/io/mesh_writer.h"
 #include "uvmesh/io/report.h"
 #include "uvmesh/surface/check3d.h"
@@ -73,6 +77,12 @@ bool read_size_file(const std::string& path, param::SizeSpec& spec, std::string&
   return true;
 }
 
+bool has_obj_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  return ext == ".obj";
+}
+
 }  // namespace
 
 CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
@@ -108,13 +118,31 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_flag("--no-selfint", f.no_selfint, "skip the self-intersection check of the report");
   c->add_flag("-q,--quiet", f.quiet, "no summary line");
   add_write_flags(c, f.write);
+  c->add_option("--scheme", f.scheme, "subdivision scheme of an .obj control cage (auto: loop when all faces are triangles)")
+      ->check(CLI::IsMember({"auto", "catmark", "loop"}));
+  c->add_option("--boundary-interp", f.boundary_interp,
+                "boundary interpolation of an .obj cage (file: its 'interpolateboundary' tag, else edge-only)")
+      ->check(CLI::IsMember({"file", "none", "edge-only", "edge-and-corner"}));
   return c;
 }
 
 int run_mesh(const MeshFlags& f) {
   const auto t_all = Clock::now();
   auto t0 = Clock::now();
-  const io::ReadResult rr = io::read_cad(f.read.model, read_options(f.read));
+  // An .obj is a subdivision control cage (meshed on its OpenSubdiv limit surface);
+  // anything else goes to the CAD readers.
+  io::ReadResult rr;
+  if (has_obj_extension(f.read.model)) {
+    geom::SubdOptions so;
+    geom::parse_subd_scheme(f.scheme, so.scheme);
+    geom::parse_subd_boundary(f.boundary_interp, so.boundary);
+    geom::SubdModelResult sr = geom::read_subd(f.read.model, so);
+    rr.ok = sr.ok;
+    rr.error = std::move(sr.error);
+    rr.model = std::move(sr.model);
+  } else {
+    rr = io::read_cad(f.read.model, read_options(f.read));
+  }
   if (!rr.ok) {
     std::cerr << "uvmesh: error: " << rr.error << "\n";
     return 2;

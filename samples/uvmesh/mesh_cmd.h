@@ -27,6 +27,9 @@ struct MeshFlags {
   std::vector<std::string> face_size, edge_size;  ///< "ID=H"
   std::string size_file;
   bool quiet = false;
+  // Subdivision cages (.obj): OpenSubdiv scheme and boundary interpolation names.
+  std::string scheme = "auto";
+  std::string boundary_interp = "file";
 };
 
 CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f);

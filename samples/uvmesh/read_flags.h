@@ -22,7 +22,7 @@ struct ReadFlags {
 };
 
 inline void add_read_flags(CLI::App* cmd, ReadFlags& f) {
-  cmd->add_option("MODEL", f.model, "STEP (.step/.stp), IGES (.igs/.iges) or BREP (.brep) file")
+  cmd->add_option("MODEL", f.model, "STEP (.step/.stp), IGES (.igs/.iges) or BREP (.brep) file; `mesh` also takes an OBJ subdivision cage (.obj)")
       ->required();
   cmd->add_flag("--no-heal", f.no_heal, "use the model exactly as read (no ShapeFix, no sewing)");
   cmd->add_flag("--conform", f.conform,

@@ -121,6 +121,7 @@ struct SubdModelResult {
   std::string error;
   Model model;
   std::vector<SubdPatch> patches;  ///< indexed by model face id
+  std::vector<Id> cage_vertex;     ///< model vertex of each cage vertex (kNone: in no patch)
   SubdScheme scheme = SubdScheme::Auto;  ///< the scheme used (never Auto)
   SubdBoundary boundary = SubdBoundary::FromFile;  ///< the interpolation used (never FromFile)
   std::vector<Id> dropped_faces;   ///< base faces without a limit surface (holes, boundary none)

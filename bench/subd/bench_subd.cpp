@@ -1,0 +1,185 @@
+// bench_subd CAGE.obj... [--hmax-rel R] [--threads N]: for each cage, uvmesh's mesh of
+// the limit surface (surface::mesh_model, default sizes with hmax = R * diagonal) and
+// OpenSubdiv's uniform tessellation (Bfr::Tessellation, one rate for every face, chosen
+// so that its triangle count is the closest to ours), both evaluated through the same
+// limit patches and measured by the same code: chordal deviation (centroids and edge
+// midpoints projected on the limit surface), shape quality Q, time. One markdown table
+// row per cage and method on stdout.
+//
+// Times: "model" (OBJ read, OpenSubdiv topology and Bfr surfaces) is common to both and
+// reported once; "mesh" is mesh_model for uvmesh, tessellation + limit evaluation for
+// OpenSubdiv.
+#include <opensubdiv/bfr/parameterization.h>
+#include <opensubdiv/bfr/tessellation.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "uvmesh/geom/subd.h"
+#include "uvmesh/surface/check3d.h"
+#include "uvmesh/surface/mesher.h"
+
+using namespace uvmesh;
+namespace Bfr = OpenSubdiv::Bfr;
+namespace Sdc = OpenSubdiv::Sdc;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+Bfr::Parameterization param_of(const geom::SubdModelResult& r, const geom::SubdPatch& p) {
+  return Bfr::Parameterization(r.scheme == geom::SubdScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK,
+                               p.face_size);
+}
+
+// Base face -> its patches (model faces), in sub-face order.
+std::map<geom::Id, std::vector<geom::Id>> patches_by_base(const geom::SubdModelResult& r) {
+  std::map<geom::Id, std::vector<geom::Id>> m;
+  for (geom::Id f = 0; f < static_cast<geom::Id>(r.patches.size()); ++f) m[r.patches[f].base_face].push_back(f);
+  return m;
+}
+
+std::size_t uniform_count(const geom::SubdModelResult& r, const std::map<geom::Id, std::vector<geom::Id>>& by_base,
+                          int rate) {
+  std::size_t n = 0;
+  for (const auto& [bf, pf] : by_base) n += Bfr::Tessellation(param_of(r, r.patches[pf[0]]), rate).GetNumFacets();
+  return n;
+}
+
+// OpenSubdiv's uniform tessellation evaluated on our patches: one point set per base
+// face (faces are not stitched: chordal deviation and shape do not need it).
+surface::SurfaceMesh tessellate(const geom::SubdModelResult& r, const std::map<geom::Id, std::vector<geom::Id>>& by_base,
+                                int rate) {
+  surface::SurfaceMesh mesh;
+  std::vector<double> uv;
+  std::vector<int> facets;
+  for (const auto& [bf, pf] : by_base) {
+    const geom::SubdPatch& p0 = r.patches[pf[0]];
+    const Bfr::Parameterization param = param_of(r, p0);
+    Bfr::Tessellation tess(param, rate);
+    uv.resize(2 * static_cast<std::size_t>(tess.GetNumCoords()));
+    tess.GetCoords(uv.data());
+    facets.resize(3 * static_cast<std::size_t>(tess.GetNumFacets()));
+    tess.GetFacets(facets.data());
+    const auto base = static_cast<surface::NodeId>(mesh.points.size());
+    // A point's patch: the sub-face holding it (n-gons), else the one patch.
+    auto local = [&](int k, geom::Id f) {
+      const geom::SubdPatch& p = r.patches[f];
+      return (geom::Vec2(uv[2 * k], uv[2 * k + 1]) - p.origin) / p.scale;
+    };
+    auto patch_of = [&](const geom::Vec2& face_uv) {
+      if (!param.HasSubFaces()) return pf[0];
+      const double c[2] = {face_uv.x, face_uv.y};
+      return pf[static_cast<std::size_t>(param.GetSubFace(c))];
+    };
+    for (int k = 0; k < tess.GetNumCoords(); ++k) {
+      const geom::Id f = patch_of({uv[2 * k], uv[2 * k + 1]});
+      const geom::Vec2 l = local(k, f);
+      mesh.points.push_back(r.model.faces[f].surface->point(l.x, l.y));
+    }
+    for (std::size_t t = 0; t + 2 < facets.size(); t += 3) {
+      const int a = facets[t], b = facets[t + 1], c = facets[t + 2];
+      // The facet's patch: the one most of its corners lie in (a point shared by
+      // sub-faces carries the coordinate of one of them only).
+      const geom::Id fa = patch_of({uv[2 * a], uv[2 * a + 1]}), fb = patch_of({uv[2 * b], uv[2 * b + 1]}),
+                     fc = patch_of({uv[2 * c], uv[2 * c + 1]});
+      const geom::Id f = (fb == fc) ? fb : fa;
+      mesh.triangles.push_back({base + a, base + b, base + c});
+      mesh.triangle_face.push_back(f);
+      // Points shared by sub-faces (the centre, spoke points) carry the coordinate of
+      // one sub-face only; on another sub-face their local (u,v) is found by projecting
+      // the point on that patch (it lies on its boundary).
+      std::array<geom::Vec2, 3> l{local(a, f), local(b, f), local(c, f)};
+      const int idx[3] = {a, b, c};
+      for (int k = 0; k < 3; ++k)
+        if (l[k].x < -1e-9 || l[k].y < -1e-9 || l[k].x > 1 + 1e-9 || l[k].y > 1 + 1e-9)
+          l[k] = surface::project_to_surface(*r.model.faces[f].surface, mesh.points[base + idx[k]],
+                                             glm::clamp(l[k], geom::Vec2(0.0), geom::Vec2(1.0)), {{0, 1}, {0, 1}},
+                                             r.model.bbox.diagonal())
+                     .uv;
+      mesh.triangle_uv.push_back(l);
+    }
+  }
+  return mesh;
+}
+
+void row(const std::string& cage, const char* method, const surface::SurfaceMesh& m, const geom::Model& model,
+         double tol, double secs, double model_secs, const std::string& extra) {
+  const surface::QualityReport q = surface::measure_quality(m, 1);
+  const surface::ChordalReport ch = surface::measure_chordal(m, model, 1);
+  const double D = model.bbox.diagonal();
+  if (std::getenv("BENCH_SUBD_DEBUG"))
+    std::fprintf(stderr, "worst: triangle %d face %d which %d uv (%g %g) dist %g\n", ch.worst.triangle, ch.worst.face,
+                 ch.worst.which, ch.worst.uv.x, ch.worst.uv.y, ch.worst.distance),
+        std::fprintf(stderr, "  tri face %d uv (%g %g) (%g %g) (%g %g)\n", m.triangle_face[ch.worst.triangle],
+                     m.triangle_uv[ch.worst.triangle][0].x, m.triangle_uv[ch.worst.triangle][0].y,
+                     m.triangle_uv[ch.worst.triangle][1].x, m.triangle_uv[ch.worst.triangle][1].y,
+                     m.triangle_uv[ch.worst.triangle][2].x, m.triangle_uv[ch.worst.triangle][2].y);
+  std::printf("| %s | %s | %zu | %.3e | %.3e | %.2f | %.3f | %.3f | %.3f | %.2f | %.3f | %.3f | %s |\n", cage.c_str(),
+              method, m.triangles.size(), ch.max / D, ch.mean / D, tol > 0 ? ch.max / tol : 0.0, q.share_Q_lt_1_5,
+              q.Q_p50, q.Q_p95, q.Q_max, secs, model_secs, extra.c_str());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  double hmax_rel = 1.0 / 25;
+  int threads = 1;
+  std::vector<std::string> cages;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--hmax-rel" && i + 1 < argc) hmax_rel = std::atof(argv[++i]);
+    else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+    else cages.push_back(a);
+  }
+  if (cages.empty()) {
+    std::fprintf(stderr, "usage: bench_subd CAGE.obj... [--hmax-rel R] [--threads N]\n");
+    return 1;
+  }
+  std::printf("| cage | method | triangles | chordal max / D | chordal mean / D | max / tol | Q<1.5 | Q p50 | Q p95 | "
+              "Q max | mesh s | model s | note |\n");
+  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  for (const std::string& path : cages) {
+    const std::string name = path.substr(path.find_last_of('/') + 1);
+    auto t0 = Clock::now();
+    const geom::SubdModelResult r = geom::read_subd(path, {});
+    const double t_model = since(t0);
+    if (!r.ok) {
+      std::fprintf(stderr, "%s\n", r.error.c_str());
+      return 2;
+    }
+    surface::MeshOptions o;
+    o.size = surface::default_size(r.model);
+    o.size.hmax = hmax_rel * r.model.bbox.diagonal();
+    o.threads = threads;
+    t0 = Clock::now();
+    const surface::MeshResult ours = surface::mesh_model(r.model, o);
+    const double t_ours = since(t0);
+    row(name, "uvmesh", ours.mesh, r.model, o.size.chordal_tol, t_ours, t_model,
+        ours.failed.empty() ? "" : std::to_string(ours.failed.size()) + " faces failed");
+
+    const auto by_base = patches_by_base(r);
+    int best = 1;
+    for (int rate = 1; rate <= 128; ++rate) {
+      const std::size_t n = uniform_count(r, by_base, rate);
+      if (std::llabs(static_cast<long long>(n) - static_cast<long long>(ours.mesh.triangles.size())) <
+          std::llabs(static_cast<long long>(uniform_count(r, by_base, best)) -
+                     static_cast<long long>(ours.mesh.triangles.size())))
+        best = rate;
+      if (n > ours.mesh.triangles.size()) break;
+    }
+    t0 = Clock::now();
+    const surface::SurfaceMesh uni = tessellate(r, by_base, best);
+    const double t_uni = since(t0);
+    row(name, "osd uniform", uni, r.model, o.size.chordal_tol, t_uni, t_model, "rate " + std::to_string(best));
+  }
+  return 0;
+}
