@@ -621,11 +621,11 @@ void read_meshb(const std::string& data, MeshReadResult& r) {
   bool end = false;
   while (b.left() > 0) {
     const std::int32_t kw = b.get<std::int32_t>("a keyword code");
+    const std::int64_t next = position();
     if (kw == 54) {  // End
       end = true;
       break;
     }
-    const std::int64_t next = position();
     auto count = [&](const char* what) {
       const std::int64_t n = integer(what);
       if (n < 0 || n > std::numeric_limits<std::int32_t>::max()) fail(b.where() + ": " + std::string(what) + " out of range");

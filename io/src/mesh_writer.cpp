@@ -37,6 +37,7 @@
 #include <memory>
 #include <string>
 #include <system_error>
+#include <tuple>
 #include <vector>
 
 namespace uvmesh::io {
@@ -345,10 +346,14 @@ std::string validate(const SurfaceMesh& m, const geom::Model* model, Counts& c) 
 // Physical groups: a solver addresses boundary conditions and materials through them.
 // Volume group per solid (tag = solid id + 1); surface groups per distinct face name
 // (tags 1.. in order of first appearance), so that faces a CAD user named alike (e.g.
-// "inlet") form one group.
+// "inlet") form one group. Once any element carries a physical tag, every element must:
+// Gmsh re-saves only grouped elements, and meshio rejects a file where some element
+// blocks have physical tags and others not. So with named faces, the unnamed ones form
+// "unnamed_faces", and the model edges and vertices one group each.
 struct Physicals {
   std::vector<std::int64_t> face_group;  ///< per face: its surface group tag, 0 for none
   std::vector<std::string> face_names;   ///< surface group tag - 1 -> name
+  std::int64_t curve_group = 0, point_group = 0;  ///< the catch-all tags (0: none)
   bool solids = false;                   ///< one volume group per written volume
   std::vector<std::string> solid_names;  ///< per solid id
 };
@@ -369,6 +374,14 @@ Physicals physicals(const geom::Model* model, const Counts& c, bool on) {
     if (fresh) p.face_names.push_back(name);
     p.face_group[f] = it->second;
   }
+  if (!p.face_names.empty()) {
+    const auto unnamed = static_cast<std::int64_t>(p.face_names.size()) + 1;
+    bool any = false;
+    for (std::int64_t& g : p.face_group)
+      if (g == 0) g = unnamed, any = true;
+    if (any) p.face_names.push_back("unnamed_faces");
+    p.curve_group = p.point_group = 1;
+  }
   return p;
 }
 
@@ -383,26 +396,25 @@ std::string quoted_name(const std::string& name) {
 // $PhysicalNames (ASCII in binary files too) for the named surface groups and the volume
 // groups of the written volumes (volume_tags: the solid tags written, in order).
 void write_physical_names(Sink& out, const Physicals& p, const std::vector<std::int64_t>& volume_tags) {
-  const std::size_t n = p.face_names.size() + (p.solids ? volume_tags.size() : 0);
-  if (n == 0) return;
+  std::vector<std::tuple<int, std::int64_t, std::string>> groups;
+  if (p.point_group > 0) groups.emplace_back(0, p.point_group, "model_vertices");
+  if (p.curve_group > 0) groups.emplace_back(1, p.curve_group, "model_edges");
+  for (std::size_t g = 0; g < p.face_names.size(); ++g)
+    groups.emplace_back(2, static_cast<std::int64_t>(g) + 1, p.face_names[g]);
+  if (p.solids)
+    for (std::int64_t t : volume_tags) groups.emplace_back(3, t, p.solid_names[static_cast<std::size_t>(t - 1)]);
+  if (groups.empty()) return;
   out.put("$PhysicalNames\n");
-  out.num(n);
+  out.num(groups.size());
   out.put('\n');
-  for (std::size_t g = 0; g < p.face_names.size(); ++g) {
-    out.put("2 ");
-    out.num(g + 1);
+  for (const auto& [dim, tag, name] : groups) {
+    out.num(dim);
     out.put(' ');
-    out.put(quoted_name(p.face_names[g]));
+    out.num(tag);
+    out.put(' ');
+    out.put(quoted_name(name));
     out.put('\n');
   }
-  if (p.solids)
-    for (std::int64_t t : volume_tags) {
-      out.put("3 ");
-      out.num(t);
-      out.put(' ');
-      out.put(quoted_name(p.solid_names[static_cast<std::size_t>(t - 1)]));
-      out.put('\n');
-    }
   out.put("$EndPhysicalNames\n");
 }
 
@@ -548,13 +560,16 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
     for (std::int64_t t : bounding) r.i(t);
     r.end();
   };
-  // Point: tag x y z numPhysicalTags.
+  // Point: tag x y z numPhysicalTags physicalTags.
   for (std::size_t v = 0; v < c.vertices; ++v) {
     if (!has_point(v)) continue;
-    r.i(one_based(v)).xyz(m.points[static_cast<std::size_t>(ng.b.order[ng.b.first[ng.key(0, v)]])]).z(0).end();
+    r.i(one_based(v)).xyz(m.points[static_cast<std::size_t>(ng.b.order[ng.b.first[ng.key(0, v)]])]);
+    r.z(phys.point_group > 0 ? 1 : 0);
+    if (phys.point_group > 0) r.i(phys.point_group);
+    r.end();
   }
   for (std::size_t e = 0; e < c.edges; ++e)
-    if (has_curve(e)) entity(one_based(e), curve_box[e], 0, curve_points[e]);
+    if (has_curve(e)) entity(one_based(e), curve_box[e], phys.curve_group, curve_points[e]);
   for (std::size_t f = 0; f < c.faces; ++f)
     if (has_surface(f)) entity(one_based(f), surface_box[f], phys.face_group.empty() ? 0 : phys.face_group[f], surface_curves[f]);
   for (const Volume& vol : volumes) entity(vol.tag, vol.box, phys.solids ? vol.tag : 0, vol.surfaces);
@@ -620,10 +635,11 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
 
 // The legacy format many solvers still read: one node list, one element list whose
 // records carry "physical elementary" tags. No volume elements exist in a surface mesh,
-// so only the named face groups can appear (a solid's group needs the 4.1 entities).
-void write_msh22(Sink& out, const SurfaceMesh& m, const Physicals& phys) {
+// so the solids' groups cannot appear (they need the 4.1 entities).
+void write_msh22(Sink& out, const SurfaceMesh& m, Physicals phys) {
   out.put("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
-  write_physical_names(out, Physicals{phys.face_group, phys.face_names, false, {}}, {});
+  phys.solids = false;
+  write_physical_names(out, phys, {});
   out.put("$Nodes\n");
   out.num(m.points.size());
   out.put('\n');
@@ -640,8 +656,9 @@ void write_msh22(Sink& out, const SurfaceMesh& m, const Physicals& phys) {
   out.put('\n');
   std::int64_t tag = 1;
   for (std::size_t i = 0; i < m.points.size(); ++i)
-    if (m.point_dim[i] == 0) out.line({tag++, 15, 2, 0, one_based(m.point_entity[i]), one_based(i)});
-  for (const auto& sg : m.segments) out.line({tag++, 1, 2, 0, one_based(sg.edge), one_based(sg.a), one_based(sg.b)});
+    if (m.point_dim[i] == 0) out.line({tag++, 15, 2, phys.point_group, one_based(m.point_entity[i]), one_based(i)});
+  for (const auto& sg : m.segments)
+    out.line({tag++, 1, 2, phys.curve_group, one_based(sg.edge), one_based(sg.a), one_based(sg.b)});
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
     const auto f = static_cast<std::size_t>(m.triangle_face[t]);
     const auto& tri = m.triangles[t];
@@ -758,15 +775,17 @@ void write_tetgen(Sink& out, const SurfaceMesh& m, bool smesh) {
 // ----------------------------------------------------------------------------- PLY
 
 // PLY (Turk's format as in the Stanford repository): double coordinates so that binary
-// and ASCII files round-trip exactly; the face list count is a uchar, indices int; the
-// CAD face id is an extra face property.
+// and ASCII files round-trip exactly; the face list count is a uchar, indices int. The
+// CAD face id is an extra face property in ASCII files only: meshio 7 (a reference
+// reader here) cannot read a binary face element holding anything but the index list.
 void write_ply(Sink& out, const SurfaceMesh& m, bool binary) {
   out.put(binary ? "ply\nformat binary_little_endian 1.0\n" : "ply\nformat ascii 1.0\n");
   out.put("comment uvmesh surface mesh, face_id = CAD face\nelement vertex ");
   out.num(m.points.size());
   out.put("\nproperty double x\nproperty double y\nproperty double z\nelement face ");
   out.num(m.triangles.size());
-  out.put("\nproperty list uchar int vertex_indices\nproperty int face_id\nend_header\n");
+  out.put(binary ? "\nproperty list uchar int vertex_indices\nend_header\n"
+                : "\nproperty list uchar int vertex_indices\nproperty int face_id\nend_header\n");
   for (const geom::Vec3& p : m.points) {
     if (binary) {
       put_le(out, p.x);
@@ -782,7 +801,6 @@ void write_ply(Sink& out, const SurfaceMesh& m, bool binary) {
     if (binary) {
       put_le(out, std::uint8_t{3});
       for (NodeId v : tri) put_le(out, static_cast<std::int32_t>(v));
-      put_le(out, static_cast<std::int32_t>(m.triangle_face[t]));
     } else {
       out.line({3, tri[0], tri[1], tri[2], m.triangle_face[t]});
     }

@@ -12,17 +12,20 @@
 //          entity blocks, node tag = index+1; point (type 15), 2-node line (type 1) and
 //          triangle (type 2) elements. Physical groups (WriteOptions::physical_groups, with
 //          a model): one volume group per solid (named after the solid, else "solid_<id+1>")
-//          and one surface group per distinct face name. Gmsh re-saves only the elements
-//          of physical groups unless told -save_all.
+//          and one surface group per distinct face name; when faces are named, the others
+//          form "unnamed_faces" and the model edges and vertices "model_edges" and
+//          "model_vertices" (Gmsh re-saves only grouped elements, meshio rejects a file
+//          where only some elements are grouped). Without face names Gmsh re-saves the
+//          file's elements only when told -save_all.
 //   msh22  Gmsh 2.2 ASCII (format "msh22"): elementary tag = entity tag as above, physical
-//          tag = the face's named group (0 when none); $PhysicalNames for the named ones.
+//          tag = the groups above but the solids' (0 when none).
 //   .mesh  Medit ASCII (MeshVersionFormatted 2: double coordinates), with the references
 //          described at write_mesh. .meshb: the same, binary (libMeshb version 3: double
 //          reals, 32-bit integers, 64-bit keyword positions).
 //   .stl   binary STL (ASCII with Encoding::Ascii); normals from the triangle corners.
 //   .obj   Wavefront OBJ: v lines, then one `g face_<id>` group of f lines per CAD face.
-//   .ply   PLY binary little-endian: double x y z; faces with int vertex_indices and an int
-//          face_id property (ASCII with Encoding::Ascii).
+//   .ply   PLY binary little-endian: double x y z; faces with int vertex_indices (ASCII with
+//          Encoding::Ascii, whose faces also carry an int face_id property).
 //   .vtk   legacy VTK UNSTRUCTURED_GRID, VTK_TRIANGLE cells, CELL_DATA int `face_id`;
 //          ASCII, or big-endian binary with Encoding::Binary.
 //   .vtu   VTK XML UnstructuredGrid, inline base64 binary arrays (ASCII arrays with
