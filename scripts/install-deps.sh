@@ -29,6 +29,10 @@ command -v npm >/dev/null 2>&1 || PKGS+=(npm)
 
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+# three.js from npm for the browser test of the .glb output, once the Debian packages are
+# in (on every successful exit, including the "all installed" one below).
+browser_deps="$(cd "$(dirname "$0")/.." && pwd)/tests/browser/install.sh"
+trap 'rc=$?; if [ "$rc" -eq 0 ]; then "$browser_deps" || exit 1; fi' EXIT
 
 missing=()
 for p in "${PKGS[@]}"; do
