@@ -274,21 +274,33 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
         const TopoDS_Wire w = TopoDS::Wire(wit.Value());
         Loop loop;
         loop.outer = !outer.IsNull() && w.IsSame(outer);
+        // Boundary edges in connected order; INTERNAL edges (embedded, not a step of the
+        // cycle) after them; EXTERNAL ones are dropped below.
+        auto embedded = [](const TopoDS_Shape& e) {
+          return e.Orientation() == TopAbs_INTERNAL || e.Orientation() == TopAbs_EXTERNAL;
+        };
         int n_edges = 0;
-        for (TopoDS_Iterator it(w); it.More(); it.Next()) ++n_edges;
+        for (TopoDS_Iterator it(w); it.More(); it.Next())
+          if (it.Value().ShapeType() == TopAbs_EDGE && !embedded(it.Value())) ++n_edges;
         std::vector<TopoDS_Edge> order;
         // Connected order from the wire explorer; a wire it cannot chain (disconnected
         // or non-manifold) keeps its stored order instead of losing edges.
-        for (BRepTools_WireExplorer wex(w, ff); wex.More(); wex.Next()) order.push_back(wex.Current());
+        for (BRepTools_WireExplorer wex(w, ff); wex.More(); wex.Next())
+          if (!embedded(wex.Current())) order.push_back(wex.Current());
         if (static_cast<int>(order.size()) != n_edges) {
           order.clear();
           for (TopoDS_Iterator it(w); it.More(); it.Next())
-            if (it.Value().ShapeType() == TopAbs_EDGE) order.push_back(TopoDS::Edge(it.Value()));
+            if (it.Value().ShapeType() == TopAbs_EDGE && !embedded(it.Value())) order.push_back(TopoDS::Edge(it.Value()));
         }
+        for (TopoDS_Iterator it(w); it.More(); it.Next())
+          if (it.Value().ShapeType() == TopAbs_EDGE && embedded(it.Value())) order.push_back(TopoDS::Edge(it.Value()));
         for (const TopoDS_Edge& e : order) {
+          // EXTERNAL edges lie outside the face's material (construction geometry).
+          if (e.Orientation() == TopAbs_EXTERNAL) continue;
           EdgeUse u;
           u.edge = emap.FindIndex(e) - 1;
           u.reversed = e.Orientation() == TopAbs_REVERSED;
+          u.internal = e.Orientation() == TopAbs_INTERNAL;
           u.seam = BRep_Tool::IsClosed(e, ff);
           double f = 0.0, l = 0.0;
           Handle(Geom2d_Curve) c2 = BRep_Tool::CurveOnSurface(e, ff, f, l);

@@ -313,11 +313,14 @@ class Mesher {
   // size feature between the endpoints (a boundary layer, a ring) is not missed; and the
   // parameters of n - 1 points splitting it in n pieces of equal metric length.
   // Boundary size ratio at parameter t of an edge whose ends have ratios ra, rb (<= 1):
-  // interpolated, and bounded by growth at the gradation rate from either end; l is the
-  // edge's length in the unscaled metric (Options::boundary_gradation).
+  // the growth at the gradation rate from the nearer end (the H-correction, eq. 7.11);
+  // l is the edge's length in the unscaled metric (Options::boundary_gradation). Not an
+  // interpolation between the ends: the first waves' edges cross the whole domain between
+  // two boundary vertices, and interpolating would keep the small boundary ratio all the
+  // way across (a face bounded by tiny segments everywhere was meshed uniformly fine).
   double ratio_at(double ra, double rb, double t, double l) const {
     const double g = opt_.boundary_gradation - 1;
-    const double r = std::min({1.0, ra + t * (rb - ra), ra + g * t * l, rb + g * (1 - t) * l});
+    const double r = std::min({1.0, ra + g * t * l, rb + g * (1 - t) * l});
     return std::max(r, 1e-6);
   }
   struct EdgeSampler {
@@ -692,6 +695,12 @@ class Mesher {
         return fail(StatusCode::OpenBoundary,
                     "the segments enclose no region: the boundary is open (every triangle is "
                     "connected to the outside)");
+      // Removed by the orientation vote alone (no hole did it): the loops run the
+      // wrong way round, or cross themselves so that no region is on their left.
+      if (last_hole_ < 0)
+        return fail(StatusCode::OpenBoundary,
+                    "no region lies to the left of its boundary segments (domain_from_orientation): "
+                    "the loops are clockwise or cross themselves");
       return fail(StatusCode::OpenBoundary,
                   "hole " + std::to_string(last_hole_) + " at " + fmt_pt(in_.holes[last_hole_]) +
                       " removes the whole domain: the boundary around it is open",
@@ -774,9 +783,22 @@ class Mesher {
           bool first = true;
           // Unscaled metric length of the edge, for the gradation bound of ratio_at.
           const double lu = (ra < 1 || rb < 1) ? 0.5 * (detail::length(vm_[a], d) * ra + detail::length(vm_[b], d) * rb) : 0;
+          // The vertices opposite the edge bound the ratio too: a long edge leaving a
+          // finely split boundary at a shallow angle passes its neighbours closer than
+          // its own end, and a point placed with the ratio of the ends alone is then
+          // "too close" in its own metric -- rejected wave after wave, which left fans of
+          // slivers between a fine and a coarse boundary.
+          const VertId oc = tri_.tv[3 * t + i], od = g != kNone ? tri_.tv[g] : kNone;
+          auto bound = [&](VertId c, Vec2 p) {
+            if (!from_boundary || c == kNone || c < 4 || !(rs_[c] < 1)) return 1.0;
+            const Vec2 dc{p.x - tri_.pts[c].x, p.y - tri_.pts[c].y};
+            return rs_[c] + (opt_.boundary_gradation - 1) * detail::length(vm_[c], dc) * rs_[c];
+          };
           split_params(es, n, [&](double tt) {
-            const double r = (ra < 1 || rb < 1) ? ratio_at(ra, rb, tt, lu) : 1.0;
-            cands.push_back({{pa.x + tt * d.x, pa.y + tt * d.y}, a, !first, r});
+            const Vec2 p{pa.x + tt * d.x, pa.y + tt * d.y};
+            double r = (ra < 1 || rb < 1) ? ratio_at(ra, rb, tt, lu) : 1.0;
+            r = std::max(std::min({r, bound(oc, p), bound(od, p)}), 1e-6);
+            cands.push_back({p, a, !first, r});
             first = false;
           });
         }
@@ -795,6 +817,7 @@ class Mesher {
         if (c.r < 1) prm.m = detail::scaled(prm.m, 1.0 / (c.r * c.r));
         prm.use_metric = aniso;
         prm.min_dist = kFilterDist;
+        if (from_boundary) prm.vertex_metrics = vm_.data(), prm.num_vertex_metrics = vm_.size();
         // Walk from the previous candidate of the same edge when there is one: on the
         // long edges of the first waves the edge's end can be far away.
         const TriId hint = c.chained && last_v != kNone ? tri_.vtri[last_v] : tri_.vtri[c.hint];

@@ -249,7 +249,16 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
     for (const std::int32_t h : bnd_) {
       const VertId a = tv[h - h % 3 + next3(h % 3)];
       const double dx = pts[a].x - p.x, dy = pts[a].y - p.y;
-      const double d2 = prm.m.m11 * dx * dx + 2 * prm.m.m12 * dx * dy + prm.m.m22 * dy * dy;
+      double d2 = prm.m.m11 * dx * dx + 2 * prm.m.m12 * dx * dy + prm.m.m22 * dy * dy;
+      if (d2 < lim && prm.vertex_metrics && static_cast<std::size_t>(a) < prm.num_vertex_metrics) {
+        const Metric2& mv = prm.vertex_metrics[a];
+        const double lv2 = mv.m11 * dx * dx + 2 * mv.m12 * dx * dy + mv.m22 * dy * dy;
+        if (lv2 > d2) {
+          const double lp = std::sqrt(d2), lv = std::sqrt(lv2);
+          const double l = lv / lp - 1 < 1e-3 ? 0.5 * (lp + lv) : (lv - lp) / std::log(lv / lp);
+          d2 = l * l;
+        }
+      }
       if (d2 < lim) return {InsertStatus::TooClose, a};
     }
   }

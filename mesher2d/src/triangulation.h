@@ -37,6 +37,13 @@ struct InsertParams {
   // Field-point filter: reject P when a cavity vertex lies closer than this in M(P)
   // (in Delaunay the nearest vertex of P is always a cavity vertex). <= 0: off.
   double min_dist = 0;
+  // Per-vertex metrics (index < num_vertex_metrics) for the filter: the distance to a
+  // vertex V is then measured along PV with the metric varying from M(P) to M(V) (the
+  // log-mean of eq. 7.10), not in M(P) alone. Where sizes grade from a finely split
+  // boundary, a point with a coarser metric than its fine neighbour V is not "too close"
+  // to V by V's own measure. nullptr: M(P) alone.
+  const Metric2* vertex_metrics = nullptr;
+  std::size_t num_vertex_metrics = 0;
   bool allow_on_constraint = false;  // false: a point exactly on a constrained edge is rejected
 };
 

@@ -25,7 +25,8 @@ double curve_size(const geom::CurvePoint3& c, const param::SizeSpec& spec) {
 
 // Scalar density f(t) = metric length of dC/dt: the number of unit edges per unit of
 // parameter. The largest over the curve's own size and every adjacent face's metric.
-double EdgeDiscretizer::density(const geom::Edge& e, geom::Id eid, double t, double& speed) const {
+double EdgeDiscretizer::density(const geom::Edge& e, geom::Id eid, double t, double& speed,
+                                const BoundaryCaps* caps) const {
   const geom::CurvePoint3 c = e.curve->eval(t);
   speed = glm::length(c.d1);
   if (!(speed > 0)) return 0.0;
@@ -39,6 +40,10 @@ double EdgeDiscretizer::density(const geom::Edge& e, geom::Id eid, double t, dou
     const geom::Vec2 uv = a.pcurve->point(t);
     const param::Metric3 m = fld->metric3(uv.x, uv.y);
     f = std::max(f, m.length(c.d1));
+  }
+  if (caps && f > 0) {
+    const double hc = caps->cap(eid, c.p, c.d1 / speed, speed / f);
+    f = std::max(f, speed / hc);
   }
   return f;
 }
@@ -57,7 +62,7 @@ EdgeDiscretizer::EdgeDiscretizer(const geom::Model& m, const param::SizeSpec& sp
       }
 }
 
-std::vector<double> EdgeDiscretizer::discretize(geom::Id eid) const {
+std::vector<double> EdgeDiscretizer::discretize(geom::Id eid, const BoundaryCaps* caps) const {
   const geom::Edge& e = m_.edges[static_cast<std::size_t>(eid)];
   const double lo = e.range.lo, hi = e.range.hi;
   if (e.degenerate || !e.curve || !(hi > lo)) return {lo, hi};
@@ -70,7 +75,7 @@ std::vector<double> EdgeDiscretizer::discretize(geom::Id eid) const {
   };
   auto sample = [&](double t) {
     Sample x{t, 0.0, 0.0};
-    x.f = density(e, eid, t, x.speed);
+    x.f = density(e, eid, t, x.speed, caps);
     return x;
   };
   std::vector<Sample> s;

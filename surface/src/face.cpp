@@ -117,10 +117,16 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   // ---- the (u,v) PSLG: one point per edge node per use, in loop order.
   m2d::Pslg in;
   std::vector<NodeId> gid;      // PSLG point -> global node
-  std::vector<geom::Id> pedge;  // PSLG segment -> model edge (for messages)
+  std::vector<geom::Id> pedge;  // PSLG point -> model edge (for messages)
+  std::vector<geom::Id> sedge;  // PSLG segment -> model edge
+  std::vector<const geom::EdgeUse*> embedded;  // INTERNAL uses: open chains, added last
   for (const geom::Loop& loop : f.loops) {
     const auto start = static_cast<m2d::VertId>(in.points.size());
     for (const geom::EdgeUse& use : loop.uses) {
+      if (use.internal) {
+        embedded.push_back(&use);
+        continue;
+      }
       const geom::Edge& e = m.edges[static_cast<std::size_t>(use.edge)];
       if (!use.pcurve) {
         out.error = "edge " + std::to_string(use.edge) + " has no (u,v) curve on this face";
@@ -149,6 +155,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       for (std::size_t i = first; i < in.points.size(); ++i) pedge.push_back(use.edge);
     }
     const auto end = static_cast<m2d::VertId>(in.points.size());
+    if (end == start) continue;  // a wire holding only embedded edges
     for (m2d::VertId i = start; i < end; ++i) {
       const m2d::VertId j = i + 1 < end ? i + 1 : start;
       // Marker edge id + 1; negative on a pole's collapsed side, which must not impose
@@ -156,7 +163,26 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       const geom::Id ei = pedge[static_cast<std::size_t>(i)];
       const bool pole = m.edges[static_cast<std::size_t>(ei)].degenerate;
       in.segments.push_back({i, j, pole ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
+      sedge.push_back(ei);
     }
+  }
+  // Embedded edges: every node, ends included, and a segment per piece (no closing
+  // segment). Both sides of such a segment lie in the face, so its two half-edges cancel
+  // in mesher2d's orientation vote; an end on the boundary is the same node as the
+  // boundary's occurrence and merges with it below.
+  for (const geom::EdgeUse* use : embedded) {
+    const geom::Edge& e = m.edges[static_cast<std::size_t>(use->edge)];
+    if (!use->pcurve || e.degenerate) continue;
+    const EdgeNodes& en = edges[static_cast<std::size_t>(use->edge)];
+    const auto first = static_cast<m2d::VertId>(in.points.size());
+    for (std::size_t k = 0; k < en.t.size(); ++k) {
+      const geom::Vec2 p = use->pcurve->point(pcurve_param(e, *use, en.t[k]));
+      in.points.push_back({p.x, p.y});
+      gid.push_back(en.node[k]);
+      pedge.push_back(use->edge);
+    }
+    for (m2d::VertId i = first; i + 1 < static_cast<m2d::VertId>(in.points.size()); ++i)
+      in.segments.push_back({i, i + 1, static_cast<int>(use->edge) + 1}), sedge.push_back(use->edge);
   }
   // One node, one (u,v) point per side: the pcurves of two edges meeting at a vertex end
   // a few ulps apart, and a loop touching the seam at a vertex would then put a point a
@@ -207,8 +233,8 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   if (!r.ok()) {
     std::string msg = r.status.message;
     if (r.status.code == m2d::StatusCode::CrossingSegments && r.status.entities.size() >= 2) {
-      const auto e0 = pedge[static_cast<std::size_t>(r.status.entities[0])];
-      const auto e1 = pedge[static_cast<std::size_t>(r.status.entities[1])];
+      const auto e0 = sedge[static_cast<std::size_t>(r.status.entities[0])];
+      const auto e1 = sedge[static_cast<std::size_t>(r.status.entities[1])];
       msg = "the (u,v) curves of edges " + std::to_string(e0) + " and " + std::to_string(e1) + " cross (" + msg + ")";
       out.refine_edges = {e0, e1};
     }

@@ -12,14 +12,18 @@
 
 namespace uvmesh::surface::detail {
 
+class BoundaryCaps;
+
 /// Stage 1: the parameters of the nodes of each model edge (ends included).
 class EdgeDiscretizer {
  public:
   EdgeDiscretizer(const geom::Model& m, const param::SizeSpec& spec,
                   const std::vector<const param::FaceSizeField*>& fields);
   void set_min_closed(int n) { min_closed_ = n; }
-  /// Node parameters t_0 = lo < ... < t_n = hi on the edge's curve.
-  std::vector<double> discretize(geom::Id edge) const;
+  /// Node parameters t_0 = lo < ... < t_n = hi on the edge's curve. With `caps`, the
+  /// size along the edge is also bounded by caps->cap() (sizes from the other edges of
+  /// the faces around it).
+  std::vector<double> discretize(geom::Id edge, const BoundaryCaps* caps = nullptr) const;
 
  private:
   struct Adjacent {
@@ -27,7 +31,7 @@ class EdgeDiscretizer {
     const geom::Curve2* pcurve;
   };
   /// Unit edges per unit of parameter at t; `speed` receives |C'(t)|.
-  double density(const geom::Edge& e, geom::Id eid, double t, double& speed) const;
+  double density(const geom::Edge& e, geom::Id eid, double t, double& speed, const BoundaryCaps* caps) const;
   const geom::Model& m_;
   const param::SizeSpec& spec_;
   const std::vector<const param::FaceSizeField*>& fields_;
@@ -39,6 +43,38 @@ class EdgeDiscretizer {
 struct EdgeNodes {
   std::vector<double> t;       ///< curve parameters, ends included
   std::vector<NodeId> node;    ///< global node ids, same length
+};
+
+/// Size caps along model edges from the 1D mesh of the other edges of the faces around
+/// them, the 1D part of what the chapter's size field does over a face (§7.5.1):
+///  - gradation across a face: a boundary node of size h(p) bounds the size at x, on any
+///    edge of a face through p, by h(p) + (beta - 1) |x - p| (the H-correction of the
+///    background field, eq. 7.11, applied between boundary nodes). Without it a long
+///    straight edge keeps hmax next to a face interior that the small features on its
+///    other edges made fine, and the triangles between the two are slivers.
+///  - proximity: where another part of a face's boundary comes closer to x than the size
+///    at x (a sliver face, a thin ligament between a hole and the outline, a sharp
+///    corner), the size is bounded by that gap, so that the face gets about one element
+///    across instead of triangles spanning the gap with edges many times longer.
+/// Built from one discretization; the edges are then discretized again under the caps
+/// (MeshOptions::boundary_size_rounds times, as a refined edge is a new source).
+class BoundaryCaps {
+ public:
+  BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t, const param::SizeSpec& spec);
+  /// Bound of the size at x on edge e (tangent: unit tangent of e at x), at most h.
+  double cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent, double h) const;
+
+ private:
+  struct EdgePoly {
+    std::vector<geom::Vec3> p;  ///< node points
+    std::vector<double> h;      ///< size at each node: the shorter adjacent segment
+    geom::Vec3 lo{0.0}, hi{0.0};
+    double hmin = 0.0;
+  };
+  std::vector<EdgePoly> poly_;
+  std::vector<std::vector<geom::Id>> face_edges_;  ///< distinct non-degenerate edges per face
+  std::vector<std::vector<geom::Id>> edge_faces_;  ///< distinct faces per edge
+  double beta_ = 1.3, floor_ = 0.0, prox_floor_ = 0.0, eps_ = 0.0;
 };
 
 /// A face's contribution before stitching. Corners of triangles are global node ids

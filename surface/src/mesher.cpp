@@ -135,6 +135,12 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   for (std::size_t f = 0; f < nf; ++f) field_ptr[f] = fields[f].get();
   res.stages.push_back({"size fields", seconds_since(t0)});
 
+  std::vector<char> on_face(ne, 0);
+  for (const geom::Face& face : m.faces)
+    for (const geom::Loop& l : face.loops)
+      for (const geom::EdgeUse& u : l.uses)
+        if (u.edge >= 0 && static_cast<std::size_t>(u.edge) < ne) on_face[static_cast<std::size_t>(u.edge)] = 1;
+
   // ---- 1. curves: every edge once.
   t0 = Clock::now();
   detail::EdgeDiscretizer disc(m, spec, field_ptr);
@@ -150,6 +156,26 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       edge_error[e] = "edge " + std::to_string(e) + ": its curve could not be evaluated; kept as one segment";
     }
   });
+  // Sizes from the other edges of each face (gradation across the face, proximity):
+  // each round caps every edge by the previous round's 1D mesh; a refined edge is a new
+  // source for its neighbours, hence more than one round.
+  for (int round = 0; round < opt.boundary_size_rounds; ++round) {
+    std::vector<std::vector<double>> ts(ne);
+    for (std::size_t e = 0; e < ne; ++e) ts[e] = edges[e].t;
+    const detail::BoundaryCaps caps(m, ts, spec);
+    std::atomic<int> changed{0};
+    parallel_indices(arena, ne, [&](std::size_t e) {
+      if (!edge_error[e].empty()) return;
+      try {
+        std::vector<double> nt = disc.discretize(static_cast<geom::Id>(e), &caps);
+        if (nt.size() != edges[e].t.size()) ++changed;
+        edges[e].t = std::move(nt);
+      } catch (...) {
+        // Kept as discretized without caps: the curve evaluated there before.
+      }
+    });
+    if (changed == 0) break;
+  }
   for (const auto& w : edge_error)
     if (!w.empty()) res.warnings.push_back(w);
 
@@ -209,6 +235,12 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     en.node.front() = end_node(ed.v0, en.t.front());
     if (ed.degenerate) {
       for (auto& x : en.node) x = en.node.front();
+      continue;
+    }
+    if (!on_face[e]) {
+      // A loose edge (wireframe geometry in a STEP file, not bounding any face) is not
+      // part of the surface: no nodes, no segments; its vertices go if nothing uses them.
+      en.node.back() = ed.v1 != geom::kNone ? static_cast<NodeId>(ed.v1) : en.node.front();
       continue;
     }
     for (std::size_t i = 1; i + 1 < n; ++i)

@@ -290,3 +290,40 @@ TEST_CASE("two nearly collinear segments from one point enclose nothing", "[regr
     }
   }
 }
+
+TEST_CASE("domain_from_orientation: a clockwise loop and no hole seed is an error, not a crash", "[regression]") {
+  // occt_caxif_k1: a face whose only loop came out clockwise in (u,v). Every component was
+  // removed by the orientation vote, and the error message then indexed the hole seeds
+  // with -1 (no hole had been used): a segmentation fault in color().
+  Pslg g;
+  add_loop(g, {{0, 0}, {0, 1}, {1, 1}, {1, 0}}, 1);  // clockwise
+  Options o = cdt();
+  o.domain_from_orientation = true;
+  const Result r = mesh(g, SizeSpec::uniform(0.3), o);
+  CHECK(r.status.code == StatusCode::OpenBoundary);
+  CHECK(r.status.message.find("left") != std::string::npos);
+}
+
+TEST_CASE("domain_from_orientation: a dangling segment chain inside keeps the face on both sides", "[regression]") {
+  // An embedded CAD edge (a crack): its segments have the domain on both sides, so its
+  // half-edges cancel in the vote and the constraint is kept in the mesh.
+  Pslg g;
+  add_loop(g, {{0, 0}, {2, 0}, {2, 2}, {0, 2}}, 1);  // counter-clockwise
+  const VertId a = static_cast<VertId>(g.points.size());
+  g.points.insert(g.points.end(), {{0.5, 1.0}, {1.0, 1.1}, {1.5, 1.0}});
+  g.segments.push_back({a, a + 1, 2});
+  g.segments.push_back({a + 1, a + 2, 2});
+  Options o;
+  o.domain_from_orientation = true;
+  o.split_segments = false;
+  const Result r = mesh_ok(g, SizeSpec::uniform(0.25), o, false);
+  int on_chain = 0;
+  for (const auto& e : r.mesh.boundary_edges) on_chain += e.marker == 2;
+  CHECK(on_chain == 2);
+  double area = 0;
+  for (const auto& t : r.mesh.triangles) {
+    const Vec2 p = r.mesh.vertices[t[0]], q = r.mesh.vertices[t[1]], s = r.mesh.vertices[t[2]];
+    area += 0.5 * ((q.x - p.x) * (s.y - p.y) - (q.y - p.y) * (s.x - p.x));
+  }
+  CHECK(area == Approx(4.0));
+}

@@ -116,6 +116,48 @@ TEST_CASE("surface mesher: poles (gmsh_full_sphere, occt_cone_catia)", "[surface
   // open problem, see the issue 4 closing note.
 }
 
+TEST_CASE("surface mesher: an embedded (INTERNAL) crack edge is a constraint inside its face (gmsh_crack)", "[surface]") {
+  // A cube with a half-disc crack face whose straight edge is INTERNAL to the cube's
+  // side face: that face used to fail ("a boundary node lies on another edge's (u,v)
+  // segment") because the edge was closed into a loop.
+  const geom::Model m = load(data("cad/gmsh_crack.brep"));
+  geom::Id crack_edge = geom::kNone;
+  for (const geom::Face& f : m.faces)
+    for (const geom::Loop& l : f.loops)
+      for (const geom::EdgeUse& u : l.uses)
+        if (u.internal) crack_edge = u.edge;
+  REQUIRE(crack_edge != geom::kNone);
+  const surface::MeshResult r = surface::mesh_model(m, defaults(m));
+  for (const auto& f : r.failed) UNSCOPED_INFO("face " << f.face << ": " << f.reason);
+  CHECK(r.failed.empty());
+  // Every segment of the crack edge is an edge of triangles on both sides in the face
+  // embedding it, plus the crack face's own: three triangles each; nothing else is
+  // non-manifold, and the only free edges are the crack face's other (free) edge.
+  std::map<std::pair<surface::NodeId, surface::NodeId>, int> count;
+  for (const auto& t : r.mesh.triangles)
+    for (int i = 0; i < 3; ++i) {
+      const auto a = t[i], b = t[(i + 1) % 3];
+      ++count[{std::min(a, b), std::max(a, b)}];
+    }
+  int crack_segments = 0;
+  for (const auto& sg : r.mesh.segments)
+    if (sg.edge == crack_edge) {
+      ++crack_segments;
+      CHECK(count[{std::min(sg.a, sg.b), std::max(sg.a, sg.b)}] == 3);
+    }
+  CHECK(crack_segments >= 2);
+  const surface::TopologyReport t = surface::check_topology(r.mesh);
+  CHECK(t.non_manifold_edges == crack_segments);
+  CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);
+}
+
+TEST_CASE("surface mesher: sliver faces and small features next to long edges (nist_ctc_01)", "[surface]") {
+  // Before edges were capped by the sizes of the other edges of their faces (gradation
+  // across a face, proximity), a 65-unit edge at hmax faced a face interior refined to
+  // 3.4 by small features, and thin faces were spanned by single slivers: Q up to 1614.
+  accept(data("cad/nist_ctc_01.stp"), true);
+}
+
 TEST_CASE("surface mesher: --hmax D/40 --angle 30 on the bracket", "[surface]") {
   const geom::Model m = load(std::string(UVMESH_SOURCE_DIR) + "/samples/data/bracket.step");
   surface::MeshOptions o = defaults(m);

@@ -52,6 +52,10 @@ struct EdgeUse {
   std::shared_ptr<const Curve2> pcurve;  ///< (u,v) curve of the edge on this face
   Interval range;                        ///< pcurve parameter range (same as the edge's)
   bool seam = false;  ///< the edge is used twice by this face (both sides of a seam)
+  /// The edge is embedded in the face (OCC orientation INTERNAL: a crack tip, an imprinted
+  /// curve), not part of its boundary: the mesh must conform to it, with the face on both
+  /// sides. Not a step of the loop's cycle.
+  bool internal = false;
 };
 
 struct Loop {

@@ -39,6 +39,9 @@ struct MeshOptions {
   /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
   double chordal_safety = 4.0;
   int min_segments_closed_edge = 3;
+  /// Rounds of size caps on the edges from the other edges of their faces (gradation
+  /// across a face and proximity of another part of its boundary); 0 = off.
+  int boundary_size_rounds = 3;
   /// Called after each face, from the worker thread that meshed it (so it must be
   /// thread-safe): faces done so far, total faces.
   std::function<void(int, int)> progress;

@@ -1,0 +1,97 @@
+// Size caps along model edges from the other edges of the faces around them (gradation
+// across a face, proximity). See BoundaryCaps in internal.h for what and why.
+#include <algorithm>
+#include <cmath>
+
+#include "internal.h"
+
+namespace uvmesh::surface::detail {
+
+namespace {
+
+double box_distance(const geom::Vec3& x, const geom::Vec3& lo, const geom::Vec3& hi) {
+  const geom::Vec3 d = glm::max(glm::max(lo - x, x - hi), geom::Vec3(0.0));
+  return glm::length(d);
+}
+
+// Closest point of segment [a,b] to x.
+geom::Vec3 closest_on_segment(const geom::Vec3& x, const geom::Vec3& a, const geom::Vec3& b) {
+  const geom::Vec3 ab = b - a;
+  const double l2 = glm::dot(ab, ab);
+  const double w = l2 > 0 ? std::clamp(glm::dot(x - a, ab) / l2, 0.0, 1.0) : 0.0;
+  return a + w * ab;
+}
+
+}  // namespace
+
+BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t,
+                           const param::SizeSpec& spec)
+    : poly_(m.edges.size()), face_edges_(m.faces.size()), edge_faces_(m.edges.size()) {
+  beta_ = std::max(1.0, spec.gradation);
+  const double D = std::max(m.bbox.diagonal(), 1e-300);
+  // hmin bounds the curvature and gradation sizes; a face narrower than hmin (a chamfer
+  // band of a micrometre on a millimetre part) still gets elements about as wide as it,
+  // down to hmin / 10: larger ones could only be slivers across it.
+  floor_ = spec.hmin > 0 ? spec.hmin : 1e-3 * D;
+  prox_floor_ = 0.1 * floor_;
+  eps_ = 1e-12 * D;
+  for (std::size_t e = 0; e < m.edges.size(); ++e) {
+    const geom::Edge& ed = m.edges[e];
+    if (ed.degenerate || !ed.curve || t[e].size() < 2) continue;
+    EdgePoly& P = poly_[e];
+    for (double s : t[e]) P.p.push_back(ed.curve->point(s));
+    const std::size_t n = P.p.size();
+    P.h.assign(n, std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      const double l = glm::length(P.p[i + 1] - P.p[i]);
+      P.h[i] = std::min(P.h[i], l);
+      P.h[i + 1] = std::min(P.h[i + 1], l);
+    }
+    P.lo = P.hi = P.p[0];
+    for (const auto& q : P.p) P.lo = glm::min(P.lo, q), P.hi = glm::max(P.hi, q);
+    P.hmin = *std::min_element(P.h.begin(), P.h.end());
+  }
+  for (std::size_t f = 0; f < m.faces.size(); ++f)
+    for (const geom::Loop& l : m.faces[f].loops)
+      for (const geom::EdgeUse& u : l.uses) {
+        if (u.edge < 0 || poly_[static_cast<std::size_t>(u.edge)].p.empty()) continue;
+        auto& fe = face_edges_[f];
+        if (std::find(fe.begin(), fe.end(), u.edge) == fe.end()) fe.push_back(u.edge);
+        auto& ef = edge_faces_[static_cast<std::size_t>(u.edge)];
+        if (std::find(ef.begin(), ef.end(), static_cast<geom::Id>(f)) == ef.end()) ef.push_back(static_cast<geom::Id>(f));
+      }
+}
+
+double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent, double h) const {
+  double best = h, prox = h;
+  const double g = beta_ - 1.0;
+  for (geom::Id f : edge_faces_[static_cast<std::size_t>(e)])
+    for (geom::Id oe : face_edges_[static_cast<std::size_t>(f)]) {
+      // The edge itself: its own 1D gradation already holds along it, and its nodes
+      // near x lie along the tangent (proximity would reject them anyway).
+      if (oe == e) continue;
+      const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
+      // A node p can lower the size at x only if h(p) + g |x - p| < best; a segment only
+      // if it is closer than best.
+      const double reach = std::max(prox, g > 0 ? (best - P.hmin) / g : 0.0);
+      if (box_distance(x, P.lo, P.hi) >= reach) continue;
+      const std::size_t n = P.p.size();
+      for (std::size_t i = 0; i < n; ++i) {
+        if (g > 0) best = std::min(best, P.h[i] + g * glm::length(x - P.p[i]));
+        if (i + 1 == n) continue;
+        // Proximity: the gap counts when it is across the face, not along the boundary:
+        // the direction to the closest point must be more than 60 degrees from the
+        // tangent at x. At a corner of angle theta this holds only for theta < 30
+        // degrees, where the sizes then shrink towards the corner.
+        const geom::Vec3 v = closest_on_segment(x, P.p[i], P.p[i + 1]) - x;
+        const double d = glm::length(v);
+        if (d >= prox || d <= eps_) continue;
+        if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
+        prox = std::min(prox, d);
+      }
+    }
+  // The gradation cap stops at hmin, the proximity cap at hmin / 10 (never above h).
+  return std::min({h, std::max(best, floor_), std::max(prox, prox_floor_)});
+}
+
+}  // namespace uvmesh::surface::detail
