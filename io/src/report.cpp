@@ -4,6 +4,7 @@
 #include "uvmesh/io/report.h"
 
 #include <algorithm>
+#include <memory>
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -107,6 +108,50 @@ void add_uniform(Histogram& h, double x) {
   ++h.count[static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(i, 0, static_cast<std::ptrdiff_t>(h.count.size()) - 1))];
 }
 
+// Metric edge lengths: each node takes the metric of its face's background size field at
+// its (u,v) (the first triangle using it decides the face); an edge's length is the mean
+// of its lengths in its two end metrics (the trapezoid rule of 7.5.2).
+std::optional<surface::EdgeLengthReport> metric_lengths(const SurfaceMesh& m, const geom::Model& model,
+                                                         const param::SizeSpec& spec) {
+  const std::size_t np = m.points.size();
+  std::vector<geom::Id> face_of(np, geom::kNone);
+  std::vector<geom::Vec2> uv_of(np, geom::Vec2(0.0));
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<std::size_t>(m.triangles[t][k]);
+      if (v < np && face_of[v] == geom::kNone) face_of[v] = m.triangle_face[t], uv_of[v] = m.triangle_uv[t][k];
+    }
+  std::vector<std::unique_ptr<param::FaceSizeField>> fields(model.faces.size());
+  std::vector<param::Metric3> metric(np);
+  std::vector<char> has(np, 0);
+  for (std::size_t v = 0; v < np; ++v) {
+    const geom::Id f = face_of[v];
+    if (f == geom::kNone || !model.faces[static_cast<std::size_t>(f)].surface) continue;
+    const geom::Face& face = model.faces[static_cast<std::size_t>(f)];
+    auto& field = fields[static_cast<std::size_t>(f)];
+    if (!field) {
+      geom::Box2 box = face.uv_box;
+      if (!(box.u.hi > box.u.lo && box.v.hi > box.v.lo)) box = face.surface->bounds();
+      field = std::make_unique<param::FaceSizeField>(*face.surface, box, spec, f);
+    }
+    metric[v] = field->metric3(uv_of[v].x, uv_of[v].y);
+    has[v] = 1;
+  }
+  return surface::measure_edge_lengths(m, [&](NodeId a, NodeId b) {
+    const auto ia = static_cast<std::size_t>(a), ib = static_cast<std::size_t>(b);
+    const geom::Vec3 e = m.points[ib] - m.points[ia];
+    if (has[ia] && has[ib]) return 0.5 * (metric[ia].length(e) + metric[ib].length(e));
+    if (has[ia] || has[ib]) return metric[has[ia] ? ia : ib].length(e);
+    return glm::length(e) / spec.hmax;  // no surface on either side: the largest size
+  });
+}
+
+nlohmann::json edge_length_json(const surface::EdgeLengthReport& r) {
+  return {{"edges", r.edges}, {"unit", r.unit},       {"unit_share", r.unit_share}, {"short", r.short_edges},
+          {"long", r.long_edges}, {"min", r.min},     {"max", r.max},               {"mean", r.mean},
+          {"bin_lo", r.bin_lo},   {"count", r.bin_count}};
+}
+
 nlohmann::json histogram_json(const Histogram& h) {
   return {{"bin_lo", h.lo}, {"hi", h.hi}, {"count", h.count}};
 }
@@ -171,6 +216,10 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
       d.chordal_unavailable = "the mesh's face ids do not all name faces of the model";
     else
       d.chordal = surface::measure_chordal(m, *model, opt.threads);
+    if (opt.size) {
+      if (!d.chordal_unavailable.empty()) d.metric_unavailable = d.chordal_unavailable;
+      else d.metric_edge_lengths = metric_lengths(m, *model, *opt.size);
+    }
   }
   return d;
 }
@@ -236,6 +285,8 @@ nlohmann::json report_json(const CheckData& d) {
                                    {"max", el.max * d.median_edge},
                                    {"mean", el.mean * d.median_edge},
                                    {"share_within_sqrt2_of_median", el.unit_share}};
+  if (d.metric_edge_lengths) j["metric_edge_lengths"] = edge_length_json(*d.metric_edge_lengths);
+  else if (!d.metric_unavailable.empty()) j["metric_edge_lengths"] = {{"unavailable", d.metric_unavailable}};
   if (d.chordal) {
     const surface::ChordalReport& ch = *d.chordal;
     const double tol = d.chordal_tolerance;

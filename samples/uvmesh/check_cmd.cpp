@@ -10,11 +10,13 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/mesh_reader.h"
 #include "uvmesh/io/report.h"
+#include "uvmesh/surface/mesher.h"
 
 namespace uvmesh::cli {
 
@@ -41,6 +43,13 @@ CLI::App* add_check_command(CLI::App& app, CheckFlags& f) {
   c->add_flag("--no-heal", f.model.no_heal, "read the model without healing (as `uvmesh mesh --no-heal` did)");
   c->add_flag("--conform", f.model.conform, "read the model made conforming (as `uvmesh mesh --conform` did)");
   c->add_option("--chordal", f.chordal, "chordal tolerance to compare the deviation with")->check(CLI::PositiveNumber);
+  // The size options of `uvmesh mesh`, for edge lengths in the size metric (with --model).
+  c->add_option("--hmax", f.hmax, "with --model: largest size of the metric (default D/20)")->check(CLI::PositiveNumber);
+  c->add_option("--hmin", f.hmin, "with --model: smallest size of the metric (default D/1000)")->check(CLI::PositiveNumber);
+  c->add_option("--angle", f.angle_deg, "with --model: curvature angle per element, degrees")->check(CLI::Range(0.1, 180.0));
+  c->add_option("--grad", f.grad, "with --model: gradation of the metric")->check(CLI::Range(1.0, 100.0));
+  c->add_option("--aniso", f.aniso, "with --model: anisotropic curvature sizes, stretch ratio at most R")
+      ->check(CLI::Range(1.0, 1e4));
   c->add_flag("--json", f.json, "the JSON report on stdout");
   c->add_option("--svg", f.svg_dir, "write histograms of quality, angles and edge sizes as SVG into DIR");
   c->add_option("--face", f.face, "with --svg: also draw face N's mesh in its (u,v) domain (needs --model for a file without (u,v))")
@@ -89,6 +98,27 @@ int run_check(const CheckFlags& f) {
   co.threads = f.threads;
   co.self_intersections = !f.no_selfint;
   co.chordal_tolerance = f.chordal;
+  if (model.ok) {
+    // The sizes `uvmesh mesh` would use with the same options (mesh_cmd.cpp).
+    param::SizeSpec size = surface::default_size(model.model);
+    if (f.hmax > 0) size.hmax = f.hmax;
+    if (f.hmin > 0) size.hmin = f.hmin;
+    size.hmin = std::min(size.hmin, size.hmax);
+    if (f.chordal > 0 || f.angle_deg > 0) {
+      size.chordal_tol = f.chordal;
+      size.angle_tol = f.angle_deg * std::numbers::pi / 180.0;
+    }
+    if (f.grad > 0) size.gradation = f.grad;
+    if (f.aniso > 0) {
+      size.isotropic = false;
+      size.max_anisotropy = f.aniso;
+    }
+    co.chordal_tolerance = size.chordal_tol;
+    // mesh_model sizes elements with the chordal tolerance divided by its safety factor.
+    const double safety = surface::MeshOptions{}.chordal_safety;
+    if (safety > 1) size.chordal_tol /= safety;
+    co.size = size;
+  }
   const io::CheckData d = io::check_mesh(mr.mesh, model.ok ? &model.model : nullptr, co);
   nlohmann::json j = io::report_json(d);
   j["mesh"] = f.mesh;
@@ -153,6 +183,9 @@ int run_check(const CheckFlags& f) {
   std::cout << "edge lengths: median " << d.median_edge << ", min " << d.edge_lengths.min * d.median_edge << ", max "
             << d.edge_lengths.max * d.median_edge << "; " << 100.0 * d.edge_lengths.unit_share
             << "% within sqrt(2) of the median\n";
+  if (d.metric_edge_lengths)
+    std::cout << "edge lengths in the size metric: " << 100.0 * d.metric_edge_lengths->unit_share << "% unit (in [1/sqrt2, sqrt2]), "
+              << d.metric_edge_lengths->short_edges << " short, " << d.metric_edge_lengths->long_edges << " long\n";
   if (d.chordal)
     std::cout << "chordal deviation: max " << d.chordal->max << ", mean " << d.chordal->mean << " (face "
               << d.chordal->worst.face << ")\n";

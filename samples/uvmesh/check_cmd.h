@@ -20,6 +20,8 @@ struct CheckFlags {
   int threads = 0;
   bool no_selfint = false;
   double chordal = 0;
+  /// Sizes for the metric edge lengths (with --model): `uvmesh mesh`'s defaults unless given.
+  double hmax = 0, hmin = 0, angle_deg = 0, grad = 0, aniso = 0;
 };
 
 CLI::App* add_check_command(CLI::App& app, CheckFlags& f);

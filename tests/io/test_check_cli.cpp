@@ -54,6 +54,10 @@ TEST_CASE("check: the report of a mesh file is the report uvmesh mesh wrote", "[
   // Chordal: the mesher's (u,v) there, projections recovered from the file here.
   CHECK(b["chordal"]["max"].get<double>() == Approx(a["chordal"]["max"].get<double>()).epsilon(1e-6));
   CHECK(b["chordal"]["samples"] == a["chordal"]["samples"]);
+  // Edge lengths in the size metric: the same default sizes, node (u,v) recovered.
+  CHECK(b["metric_edge_lengths"]["edges"] == a["metric_edge_lengths"]["edges"]);
+  CHECK(b["metric_edge_lengths"]["unit_share"].get<double>() ==
+        Approx(a["metric_edge_lengths"]["unit_share"].get<double>()).margin(0.01));
   CHECK(b["topology"]["watertight"] == true);
   CHECK(b["topology"]["components"] == 1);
 

@@ -10,7 +10,8 @@
 // JSON sections: counts, quality (Q and q percentiles, angles, bad triangles), topology
 // (free / non-manifold / inconsistently oriented edges, components, Euler characteristic,
 // close points, self-intersections), edge_length_distribution (3D lengths relative to the
-// median edge), chordal (against the model, when given), histograms.
+// median edge), metric_edge_lengths (with a model and sizes), chordal (against the model,
+// when given), histograms.
 #pragma once
 
 #include <cstddef>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "uvmesh/geom/model.h"
+#include "uvmesh/param/size_field.h"
 #include "uvmesh/surface/check3d.h"
 #include "uvmesh/surface/surface_mesh.h"
 
@@ -30,6 +32,14 @@ struct CheckOptions {
   bool self_intersections = true;
   int max_list = 20;                ///< cap of every list in the report
   double chordal_tolerance = 0.0;   ///< 0 = no bound to compare with
+  /// With a model: edge lengths in the metric of these sizes (the unit mesh measure,
+  /// DESIGN.md), each node's metric from its face's param::FaceSizeField. For a mesh of
+  /// surface::mesh_model, the sizes it meshed with (its chordal tolerance divided by
+  /// MeshOptions::chordal_safety). This is the size field alone: the 2D mesher also
+  /// grades sizes away from short boundary segments (small holes, fillets), so edges near
+  /// such features count as short here while the mesher's own per-face measure
+  /// (`uvmesh mesh --report`: unit_edge_share) counts them as unit.
+  std::optional<param::SizeSpec> size;
 };
 
 /// Counts per bin; bin i covers [lo[i], lo[i+1]), the last bin ends at `hi`.
@@ -50,6 +60,9 @@ struct CheckData {
   surface::QualityReport quality;
   double median_edge = 0;                 ///< 3D length of the median unique edge
   surface::EdgeLengthReport edge_lengths;  ///< lengths / median_edge (bins: check3d.h)
+  /// Lengths in the size metric (CheckOptions::size); unit = in [1/sqrt2, sqrt2].
+  std::optional<surface::EdgeLengthReport> metric_edge_lengths;
+  std::string metric_unavailable;  ///< why not, although a model and sizes were given
   std::optional<surface::ChordalReport> chordal;
   std::string chordal_unavailable;  ///< why chordal is not measured although a model was given
   double chordal_tolerance = 0;
