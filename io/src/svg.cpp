@@ -14,7 +14,8 @@ namespace {
 std::string num(double v) {
   char buf[32];
   // Three decimals are enough for screen coordinates and labels.
-  const auto r = std::to_chars(buf, buf + sizeof buf, std::round(v * 1000.0) / 1000.0);
+  // + 0.0 turns -0 into 0.
+  const auto r = std::to_chars(buf, buf + sizeof buf, std::round(v * 1000.0) / 1000.0 + 0.0);
   return std::string(buf, r.ptr);
 }
 
@@ -92,11 +93,13 @@ std::string face_uv_svg(const surface::SurfaceMesh& m, geom::Id face) {
   // where an anisotropic mesh shows its stretching.
   const double span = std::max({hi.x - lo.x, hi.y - lo.y, 1e-300});
   const double k = (S - 2 * M) / span;
-  const double w = (hi.x - lo.x) * k + 2 * M, h = (hi.y - lo.y) * k + 2 * M + 30;
+  // At least 640 wide so that the caption fits a narrow domain; the domain is centred.
+  const double w = std::max((hi.x - lo.x) * k + 2 * M, 640.0), h = (hi.y - lo.y) * k + 2 * M + 30;
+  const double x0 = 0.5 * (w - (hi.x - lo.x) * k);
   std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(w) + "\" height=\"" + num(h) +
                   "\" viewBox=\"0 0 " + num(w) + " " + num(h) + "\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   s += text(w / 2, 20, "face " + std::to_string(face) + ": " + std::to_string(count) +
-                           " triangles in (u,v), colored by 3D shape quality q (red = poor)", "middle", 13);
+                           " triangles in (u,v), colour = 3D shape quality q (red = poor)", "middle", 13);
   s += "<g stroke=\"black\" stroke-width=\"0.4\" stroke-linejoin=\"round\">\n";
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
     if (m.triangle_face[t] != face) continue;
@@ -105,7 +108,7 @@ std::string face_uv_svg(const surface::SurfaceMesh& m, geom::Id face) {
                                          m.points[static_cast<std::size_t>(tri[2])]);
     s += "<polygon points=\"";
     for (const geom::Vec2& uv : m.triangle_uv[t])
-      s += num(M + (uv.x - lo.x) * k) + "," + num(30 + M + (hi.y - uv.y) * k) + " ";  // v up
+      s += num(x0 + (uv.x - lo.x) * k) + "," + num(30 + M + (hi.y - uv.y) * k) + " ";  // v up
     s += "\" fill=\"" + q_color(std::isfinite(Q) && Q > 0 ? 1.0 / Q : 0.0) + "\"/>\n";
   }
   s += "</g>\n";
