@@ -990,8 +990,16 @@ MeshReadResult read_mesh(const std::string& path, const MeshReadOptions& opts) {
       r.error = path + ": cannot open: " + std::strerror(errno);
       return r;
     }
-    data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (in.bad()) {
+    // One read of the whole file (meshes reach hundreds of MB; a character iterator is
+    // several times slower).
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    in.seekg(0, std::ios::beg);
+    if (size > 0) {
+      data.resize(static_cast<std::size_t>(size));
+      in.read(data.data(), size);
+    }
+    if (in.bad() || (size > 0 && in.gcount() != size)) {
       r.error = path + ": read error";
       return r;
     }

@@ -316,6 +316,37 @@ TEST_CASE("mesh formats: Gmsh opens every .msh form with the same nodes, triangl
   }
 }
 
+TEST_CASE("mesh formats: the files Gmsh itself writes read back with the same counts", "[io][mesh_formats]") {
+  TempDir dir("mesh_formats");
+  const Cube cube = named_cube(4);
+  const std::string src = dir.file("src.msh");
+  write_ok(cube.mesh, &cube.model, src);
+  struct Out {
+    const char* file;
+    const char* flags;
+    std::size_t segments;
+  };
+  for (const Out& o : {Out{"g41.msh", "", 48}, Out{"g41b.msh", "-bin", 48}, Out{"g22.msh", "-format msh22", 48},
+                       Out{"g.mesh", "-format mesh", 48}, Out{"g.stl", "-format stl", 0}}) {
+    SECTION(o.file) {
+      const std::string path = dir.file(o.file);
+      const Run g = run("gmsh " + quoted(src) + " -0 -save_all " + o.flags + " -o " + quoted(path));
+      INFO(g.out);
+      REQUIRE(g.status == 0);
+      const io::MeshReadResult r = io::read_mesh(path);
+      INFO(r.error);
+      REQUIRE(r.ok);
+      CHECK(r.mesh.points.size() == cube.mesh.points.size());
+      CHECK(r.mesh.triangles.size() == cube.mesh.triangles.size());
+      CHECK(r.mesh.segments.size() == o.segments);
+      std::vector<geom::Vec3> got = r.mesh.points, want = cube.mesh.points;
+      if (std::string(o.file) == "g.stl")  // floats
+        for (auto& p : want) p = geom::Vec3(glm::vec3(p));
+      CHECK(sorted(got) == sorted(want));
+    }
+  }
+}
+
 TEST_CASE("mesh formats: TetGen tetrahedralizes the .poly and the .smesh", "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(3);
