@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -32,6 +33,11 @@ bool to_number(std::string_view s, T& out) {
   auto [p, ec] = std::from_chars(s.data(), e, out);
   return ec == std::errc() && p == e;
 }
+
+// Same bound as the CAD readers (io::ReadOptions::max_abs_coordinate): beyond it double
+// spacing exceeds 1e-4 and the metric of the limit surface overflows, so such a vertex is
+// a corrupt file, not a model.
+constexpr double kMaxAbsCoordinate = 1e12;
 
 // Thrown inside the parser, caught once at its end: one message naming the line.
 struct ParseError {
@@ -99,6 +105,9 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
         for (int k = 0; k < 3; ++k) {
           if (!to_number(tok[1 + k], p[k])) throw ParseError{ln, "malformed vertex coordinate '" + std::string(tok[1 + k]) + "'"};
           if (!std::isfinite(p[k])) throw ParseError{ln, "vertex coordinate is not finite (" + std::string(tok[1 + k]) + ")"};
+          if (std::abs(p[k]) > kMaxAbsCoordinate)
+            throw ParseError{ln, "vertex coordinate " + std::string(tok[1 + k]) +
+                                     " is beyond the accepted magnitude 1e12 (corrupted coordinate?)"};
         }
         c.points.push_back(p);
       } else if (kw == "f") {
@@ -140,8 +149,10 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
               n[1] < 0 || n[2] < 0)
             throw ParseError{ln, "malformed tag counts '" + std::string(cs) + "' (expected nint/nfloat/nstring)"};
         }
-        if (tok.size() != 3u + n[0] + n[1] + n[2])
-          throw ParseError{ln, "tag '" + tname + "' announces " + std::to_string(n[0] + n[1] + n[2]) + " arguments but has " +
+        // Summed in 64 bits: three counts near INT_MAX overflow int.
+        const std::int64_t nargs = std::int64_t{n[0]} + n[1] + n[2];
+        if (static_cast<std::int64_t>(tok.size()) != 3 + nargs)
+          throw ParseError{ln, "tag '" + tname + "' announces " + std::to_string(nargs) + " arguments but has " +
                                    std::to_string(tok.size() - 3)};
         std::vector<int> ia(n[0]);
         std::vector<float> fa(n[1]);
@@ -189,9 +200,11 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
       if (idx >= static_cast<int>(c.points.size()))
         throw ParseError{fl, "face references vertex " + std::to_string(idx + 1) + " but the file has only " +
                                  std::to_string(c.points.size()) + " vertices"};
+    if (ln == 0) throw ParseError{0, "the file is empty"};
     if (c.face_sizes.empty()) throw ParseError{ln, "no faces"};
   } catch (const ParseError& e) {
-    r.error = name + ":" + std::to_string(e.line) + ": " + e.what;
+    // Line 0: the whole file, not one of its lines.
+    r.error = name + (e.line > 0 ? ":" + std::to_string(e.line) : std::string()) + ": " + e.what;
     return r;
   }
   r.ok = true;

@@ -55,7 +55,15 @@ int main(int argc, char** argv) {
   uvmesh::cli::CheckFlags check_flags;
   CLI::App* check = uvmesh::cli::add_check_command(app, check_flags);
 
-  CLI11_PARSE(app, argc, argv);
+  // CLI11_PARSE would exit with CLI11's own codes (105, 106, ...) and an unprefixed
+  // message; the documented contract is exit 1 and one "uvmesh: error:" line.
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help
+    std::cerr << "uvmesh: error: " << e.what() << "\n";
+    return 1;
+  }
   try {
     if (info->parsed()) return run_info(info_flags, info_json);
     if (mesh->parsed()) return uvmesh::cli::run_mesh(mesh_flags);

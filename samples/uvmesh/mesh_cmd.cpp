@@ -5,12 +5,15 @@
 // could not be written.
 #include "mesh_cmd.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -83,6 +86,31 @@ bool has_obj_extension(const std::string& path) {
   return ext == ".obj";
 }
 
+// "" when a file can be created at `path` (probed with a file created and removed beside
+// it), else why not. Checked before reading and meshing, which can take minutes, so that
+// an unwritable -o or --report fails at once and leaves nothing behind.
+std::string check_writable(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return path + ": is a directory";
+  const std::string probe = path + ".probe-" + std::to_string(::getpid());
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) return path + ": cannot create a file there: " + std::strerror(errno);
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return "";
+}
+
+// The option checks that need no model: output format and paths.
+std::string check_flags(const MeshFlags& f, const io::WriteOptions& wo) {
+  if (!wo.format && !io::format_from_path(f.out))
+    return f.out + ": unknown mesh extension (known: " + io::known_mesh_extensions() + ")";
+  if (!f.report.empty() && f.report == f.out) return f.out + ": given both as the mesh and as the report";
+  if (std::string e = check_writable(f.out); !e.empty()) return e;
+  if (!f.report.empty())
+    if (std::string e = check_writable(f.report); !e.empty()) return e;
+  return "";
+}
+
 }  // namespace
 
 CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
@@ -96,11 +124,11 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_option("-o,--output", f.out, "output mesh; the extension picks the format (" +
                                           io::known_mesh_extensions() + ")")
       ->required();
-  c->add_option("--hmax", f.hmax, "largest element size (model units)")->check(CLI::PositiveNumber);
-  c->add_option("--hmax-rel", f.hmax_rel, "largest element size as a fraction of D")->check(CLI::PositiveNumber);
-  c->add_option("--hmin", f.hmin, "smallest element size")->check(CLI::PositiveNumber);
+  c->add_option("--hmax", f.hmax, "largest element size (model units)")->check(finite_positive());
+  c->add_option("--hmax-rel", f.hmax_rel, "largest element size as a fraction of D")->check(finite_positive());
+  c->add_option("--hmin", f.hmin, "smallest element size")->check(finite_positive());
   c->add_option("--chordal", f.chordal, "maximum distance between the mesh and the surface")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   c->add_option("--angle", f.angle_deg, "each element spans at most DEG degrees of curvature arc")
       ->check(CLI::Range(0.1, 180.0));
   c->add_option("--grad", f.grad, "gradation: neighbouring sizes differ by at most this ratio")
@@ -111,7 +139,7 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_option("--face-size", f.face_size, "local size on a face: ID=H (repeatable)");
   c->add_option("--edge-size", f.edge_size, "local size on an edge: ID=H (repeatable)");
   c->add_option("--sizes", f.size_file, "file of local sizes, lines 'face ID H' or 'edge ID H'");
-  c->add_option("--threads", f.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  c->add_option("--threads", f.threads, "worker threads (default: all cores)")->check(CLI::Range(0, 4096));
   c->add_option("--report", f.report, "write a JSON report (counts, times, quality, chordal, topology)");
   c->add_flag("--allow-holes", f.allow_holes, "exit 0 even when some faces could not be meshed");
   c->add_flag("--no-optimize3d", f.no_optimize3d, "skip the 3D swaps and smoothing");
@@ -128,6 +156,11 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
 
 int run_mesh(const MeshFlags& f) {
   const auto t_all = Clock::now();
+  const io::WriteOptions wo = write_options(f.write);
+  if (std::string e = check_flags(f, wo); !e.empty()) {
+    std::cerr << "uvmesh: error: " << e << "\n";
+    return 1;
+  }
   auto t0 = Clock::now();
   // An .obj is a subdivision control cage (meshed on its OpenSubdiv limit surface);
   // anything else goes to the CAD readers.
@@ -149,13 +182,6 @@ int run_mesh(const MeshFlags& f) {
   }
   const double t_read = since(t0);
   const geom::Model& model = rr.model;
-  const io::WriteOptions wo = write_options(f.write);
-  const auto fmt = wo.format ? wo.format : io::format_from_path(f.out);
-  if (!fmt) {
-    std::cerr << "uvmesh: error: " << f.out << ": unknown mesh extension (known: " << io::known_mesh_extensions()
-              << ")\n";
-    return 1;
-  }
 
   // ---- sizes
   surface::MeshOptions o;
@@ -164,6 +190,11 @@ int run_mesh(const MeshFlags& f) {
   if (f.hmax_rel > 0) o.size.hmax = f.hmax_rel * D;
   if (f.hmax > 0) o.size.hmax = f.hmax;
   if (f.hmin > 0) o.size.hmin = f.hmin;
+  if (f.hmin > 0 && f.hmin > o.size.hmax) {
+    // Only the default hmin (D/1000) gives way to a small hmax; an explicit one is an error.
+    std::cerr << "uvmesh: error: --hmin " << f.hmin << " is larger than hmax " << o.size.hmax << "\n";
+    return 1;
+  }
   o.size.hmin = std::min(o.size.hmin, o.size.hmax);
   if (f.chordal > 0 || f.angle_deg > 0) {
     o.size.chordal_tol = f.chordal;

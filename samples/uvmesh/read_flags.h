@@ -3,12 +3,31 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <string>
 
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/units.h"
 
 namespace uvmesh::cli {
+
+// A size or tolerance: finite and > 0. CLI::PositiveNumber lets NaN through (every
+// comparison with it is false) and prints DBL_MAX in full when it rejects a value.
+inline CLI::Validator finite_positive() {
+  return CLI::Validator(
+      [](std::string& s) {
+        double v = 0;
+        std::size_t used = 0;
+        try {
+          v = std::stod(s, &used);
+        } catch (...) {
+          used = 0;
+        }
+        return used == s.size() && std::isfinite(v) && v > 0 ? std::string()
+                                                             : "expected a finite number > 0, found '" + s + "'";
+      },
+      "X>0");
+}
 
 struct ReadFlags {
   std::string model;
@@ -31,7 +50,7 @@ inline void add_read_flags(CLI::App* cmd, ReadFlags& f) {
   cmd->add_flag("--no-check", f.no_check, "skip OCC's per-face validity check (BRepCheck), the slowest part of a load");
   cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");
   cmd->add_option("--sew-tol", f.sew_rel_tol, "sewing tolerance relative to the bounding-box diagonal")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--units", f.units,
                   "convert coordinates to this length unit (" + uvmesh::io::known_length_units() +
                       "); default: keep the unit the file declares (BREP files have none)")

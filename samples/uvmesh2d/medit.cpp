@@ -11,6 +11,8 @@ namespace uvmesh::cli2d {
 
 namespace {
 
+using text::quoted;
+
 constexpr std::int64_t kMaxCount = std::numeric_limits<std::int32_t>::max() - 1;
 constexpr std::int64_t kMaxReserve = 1 << 20;
 
@@ -23,10 +25,6 @@ std::string num(double v) {
   std::string s;
   text::append_double(s, v);
   return s;
-}
-
-std::string quoted(const std::string& s) {
-  return "'" + (s.size() > 40 ? s.substr(0, 40) + "..." : s) + "'";
 }
 
 // Token-level reading with messages that name file and line.

@@ -14,19 +14,13 @@ namespace uvmesh::cli2d {
 namespace {
 
 using text::LineReader;
+using text::quoted;
 
 // Counts above this are rejected: vertex ids are int32 in the mesher, and a corrupt header
 // must not make us reserve gigabytes before the first record is read.
 constexpr std::int64_t kMaxCount = std::numeric_limits<std::int32_t>::max() - 1;
 // Reserve at most this many entries up front; vectors grow past it if the file is real.
 constexpr std::int64_t kMaxReserve = 1 << 20;
-
-std::string quoted(std::string_view s) {
-  std::string q = "'";
-  q += s.substr(0, 40);
-  if (s.size() > 40) q += "...";
-  return q + "'";
-}
 
 std::string plural(std::int64_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);

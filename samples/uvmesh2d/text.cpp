@@ -116,4 +116,21 @@ std::string extension(std::string_view path) {
   return e;
 }
 
+std::string quoted(std::string_view s) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string q = "'";
+  for (const char ch : s.substr(0, 40)) {
+    const auto b = static_cast<unsigned char>(ch);
+    if (b >= 0x20 && b < 0x7f) {
+      q += ch;
+    } else {
+      q += "\\x";
+      q += kHex[b >> 4];
+      q += kHex[b & 15];
+    }
+  }
+  if (s.size() > 40) q += "...";
+  return q + "'";
+}
+
 }  // namespace uvmesh::cli2d::text

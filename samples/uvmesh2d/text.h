@@ -78,4 +78,8 @@ void append_int(std::string& out, std::int64_t v);
 // Lower-case extension with its dot (".mesh"), or "" when the file name has none.
 std::string extension(std::string_view path);
 
+// A field as shown in a message, quoted: at most 40 bytes, control and non-ASCII bytes
+// as \xNN, so that a binary file gives one readable line, not raw bytes on a terminal.
+std::string quoted(std::string_view s);
+
 }  // namespace uvmesh::cli2d::text
