@@ -964,6 +964,11 @@ void read_drc(const std::string& data, MeshReadResult& r) {
   classify_from_elements(r.mesh, {});
 }
 
+bool readable(MeshFormat f) {
+  return f == MeshFormat::Msh41 || f == MeshFormat::Msh22 || f == MeshFormat::Medit || f == MeshFormat::Meshb ||
+         f == MeshFormat::Stl || f == MeshFormat::Obj || f == MeshFormat::Ply || f == MeshFormat::Drc;
+}
+
 }  // namespace
 
 std::string readable_mesh_extensions() { return ".msh, .mesh, .meshb, .stl, .obj, .ply, .drc"; }
@@ -971,10 +976,7 @@ std::string readable_mesh_extensions() { return ".msh, .mesh, .meshb, .stl, .obj
 MeshReadResult read_mesh(const std::string& path, const MeshReadOptions& opts) {
   MeshReadResult r;
   const std::optional<MeshFormat> fmt = opts.format ? opts.format : format_from_path(path);
-  const bool readable = fmt && (*fmt == MeshFormat::Msh41 || *fmt == MeshFormat::Msh22 || *fmt == MeshFormat::Medit ||
-                                *fmt == MeshFormat::Meshb || *fmt == MeshFormat::Stl || *fmt == MeshFormat::Obj ||
-                                *fmt == MeshFormat::Ply || *fmt == MeshFormat::Drc);
-  if (!readable) {
+  if (!fmt || !readable(*fmt)) {
     r.error = path + ": not a mesh format read here (known: " + readable_mesh_extensions() + ")";
     return r;
   }
@@ -1004,13 +1006,22 @@ MeshReadResult read_mesh(const std::string& path, const MeshReadOptions& opts) {
       return r;
     }
   }
+  return read_mesh_data(data, *fmt, path);
+}
+
+MeshReadResult read_mesh_data(const std::string& data, MeshFormat format, const std::string& path) {
+  MeshReadResult r;
+  if (!readable(format)) {
+    r.error = path + ": not a mesh format read here (known: " + readable_mesh_extensions() + ")";
+    return r;
+  }
   if (data.empty()) {
     r.error = path + ": the file is empty";
     return r;
   }
-  r.format = *fmt;
+  r.format = format;
   try {
-    switch (*fmt) {
+    switch (format) {
       case MeshFormat::Msh41:
       case MeshFormat::Msh22: read_msh(data, r); break;
       case MeshFormat::Medit: read_medit_ascii(data, r); break;

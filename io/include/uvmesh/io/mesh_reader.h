@@ -70,6 +70,11 @@ struct MeshReadResult {
 
 MeshReadResult read_mesh(const std::string& path, const MeshReadOptions& opts = {});
 
+/// The parser of read_mesh on a file's contents already in memory (the fuzzers feed it
+/// bytes without a file); `name` stands for the path in messages. A format read_mesh
+/// does not read is an error.
+MeshReadResult read_mesh_data(const std::string& data, MeshFormat format, const std::string& name);
+
 /// ".msh, .mesh, .meshb, .stl, .obj, .ply, .drc"
 std::string readable_mesh_extensions();
 
