@@ -44,8 +44,19 @@ inline void add_read_flags(CLI::App* cmd, ReadFlags& f) {
   cmd->add_option("MODEL", f.model, "STEP (.step/.stp), IGES (.igs/.iges) or BREP (.brep) file; `mesh` also takes an OBJ subdivision cage (.obj)")
       ->required();
   cmd->add_flag("--no-heal", f.no_heal, "use the model exactly as read (no ShapeFix, no sewing)");
-  cmd->add_flag("--conform", f.conform,
-                "make an assembly conforming: touching solids are imprinted (general fuse)");
+  if (cmd->get_name() == "mesh") {
+    // Meshing an assembly of touching solids without imprinting them gives two different
+    // triangulations of every interface (intersecting, and rejected by volume meshers as
+    // duplicated facets): `mesh` makes models with two or more solids conforming unless
+    // told not to. `info` describes the file as it is.
+    f.conform = true;
+    cmd->add_flag("--conform,!--no-conform", f.conform,
+                  "make an assembly of two or more solids conforming: touching solids are imprinted "
+                  "(general fuse); default on for `mesh`, --no-conform keeps the solids as they are");
+  } else {
+    cmd->add_flag("--conform", f.conform,
+                  "make an assembly conforming: touching solids are imprinted (general fuse)");
+  }
   cmd->add_flag("--any-extension", f.any_extension, "read by content when the extension disagrees");
   cmd->add_flag("--no-check", f.no_check, "skip OCC's per-face validity check (BRepCheck), the slowest part of a load");
   cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");

@@ -31,9 +31,9 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
   const double D = std::max(m.bbox.diagonal(), 1e-300);
   // hmin bounds the curvature and gradation sizes; a face narrower than hmin (a chamfer
   // band of a micrometre on a millimetre part) still gets elements about as wide as it,
-  // down to hmin / 10: larger ones could only be slivers across it.
+  // down to hmin / 100: larger ones could only be slivers across it.
   floor_ = spec.hmin > 0 ? spec.hmin : 1e-3 * D;
-  prox_floor_ = 0.1 * floor_;
+  prox_floor_ = 0.01 * floor_;
   eps_ = 1e-12 * D;
   for (std::size_t e = 0; e < m.edges.size(); ++e) {
     const geom::Edge& ed = m.edges[e];
@@ -50,6 +50,21 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
     P.lo = P.hi = P.p[0];
     for (const auto& q : P.p) P.lo = glm::min(P.lo, q), P.hi = glm::max(P.hi, q);
     P.hmin = *std::min_element(P.h.begin(), P.h.end());
+    for (std::size_t a = 0; a + 1 < n; a += kChunk) {
+      const std::size_t b = std::min(n - 1, a + kChunk);  // nodes a..b, segments a..b-1
+      EdgePoly::Chunk c{P.p[a], P.p[a], P.h[a]};
+      for (std::size_t i = a; i <= b; ++i)
+        c.lo = glm::min(c.lo, P.p[i]), c.hi = glm::max(c.hi, P.p[i]),
+        c.hmin = std::min(c.hmin, P.h[i]);
+      P.chunks.push_back(c);
+    }
+    for (std::size_t a = 0; a < P.chunks.size(); a += kChunk) {
+      EdgePoly::Chunk g = P.chunks[a];
+      for (std::size_t i = a; i < std::min(P.chunks.size(), a + kChunk); ++i)
+        g.lo = glm::min(g.lo, P.chunks[i].lo), g.hi = glm::max(g.hi, P.chunks[i].hi),
+        g.hmin = std::min(g.hmin, P.chunks[i].hmin);
+      P.groups.push_back(g);
+    }
   }
   for (std::size_t f = 0; f < m.faces.size(); ++f)
     for (const geom::Loop& l : m.faces[f].loops)
@@ -58,11 +73,13 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
         auto& fe = face_edges_[f];
         if (std::find(fe.begin(), fe.end(), u.edge) == fe.end()) fe.push_back(u.edge);
         auto& ef = edge_faces_[static_cast<std::size_t>(u.edge)];
-        if (std::find(ef.begin(), ef.end(), static_cast<geom::Id>(f)) == ef.end()) ef.push_back(static_cast<geom::Id>(f));
+        if (std::find(ef.begin(), ef.end(), static_cast<geom::Id>(f)) == ef.end())
+          ef.push_back(static_cast<geom::Id>(f));
       }
 }
 
-double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent, double h) const {
+double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent,
+                         double h) const {
   double best = h, prox = h;
   const double g = beta_ - 1.0;
   for (geom::Id f : edge_faces_[static_cast<std::size_t>(e)])
@@ -76,21 +93,51 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
       const double reach = std::max(prox, g > 0 ? (best - P.hmin) / g : 0.0);
       if (box_distance(x, P.lo, P.hi) >= reach) continue;
       const std::size_t n = P.p.size();
-      for (std::size_t i = 0; i < n; ++i) {
-        if (g > 0) best = std::min(best, P.h[i] + g * glm::length(x - P.p[i]));
-        if (i + 1 == n) continue;
-        // Proximity: the gap counts when it is across the face, not along the boundary:
-        // the direction to the closest point must be more than 60 degrees from the
-        // tangent at x. At a corner of angle theta this holds only for theta < 30
-        // degrees, where the sizes then shrink towards the corner.
-        const geom::Vec3 v = closest_on_segment(x, P.p[i], P.p[i + 1]) - x;
-        const double d = glm::length(v);
-        if (d >= prox || d <= eps_) continue;
-        if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
-        prox = std::min(prox, d);
+      auto far = [&](const EdgePoly::Chunk& ch) {
+        return box_distance(x, ch.lo, ch.hi) >= std::max(prox, g > 0 ? (best - ch.hmin) / g : 0.0);
+      };
+      // The nearest group first: the caps it gives shrink the reach for all the others.
+      std::size_t first = 0;
+      double dmin = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < P.groups.size(); ++k)
+        if (const double d = box_distance(x, P.groups[k].lo, P.groups[k].hi); d < dmin)
+          dmin = d, first = k;
+      for (std::size_t step = 0; step < P.chunks.size() + kChunk; ++step) {
+        // step 0..kChunk-1 visit the chunks of the nearest group, then every other chunk.
+        std::size_t c;
+        if (step < kChunk) {
+          c = first * kChunk + step;
+          if (c >= P.chunks.size()) continue;
+        } else {
+          c = step - kChunk;
+          if (c / kChunk == first) continue;
+          if (c >= P.chunks.size()) break;
+          if (c % kChunk == 0 && far(P.groups[c / kChunk])) {
+            step += kChunk - 1;
+            continue;
+          }
+        }
+        if (far(P.chunks[c])) continue;
+        const std::size_t a = c * kChunk, b = std::min(n - 1, a + kChunk);
+        for (std::size_t i = a; i <= b; ++i) {
+          if (g > 0) best = std::min(best, P.h[i] + g * glm::length(x - P.p[i]));
+          if (i == b) continue;
+          // Proximity: the gap counts when it is across the face, not along the boundary:
+          // the direction to the closest point must be more than 60 degrees from the
+          // tangent at x. At a corner of angle theta this holds only for theta < 30
+          // degrees, where the sizes then shrink towards the corner.
+          const geom::Vec3 v = closest_on_segment(x, P.p[i], P.p[i + 1]) - x;
+          const double d = glm::length(v);
+          // A gap below the floor (a face narrower than hmin / 100: a CAD defect rather
+          // than a feature) cannot be resolved within the floor; refining along it would
+          // only multiply the slivers across it, so it is left to the other caps.
+          if (d >= prox || d < prox_floor_) continue;
+          if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
+          prox = std::min(prox, d);
+        }
       }
     }
-  // The gradation cap stops at hmin, the proximity cap at hmin / 10 (never above h).
+  // The gradation cap stops at hmin, the proximity cap at hmin / 100 (never above h).
   return std::min({h, std::max(best, floor_), std::max(prox, prox_floor_)});
 }
 

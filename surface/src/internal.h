@@ -70,7 +70,17 @@ class BoundaryCaps {
     std::vector<double> h;      ///< size at each node: the shorter adjacent segment
     geom::Vec3 lo{0.0}, hi{0.0};
     double hmin = 0.0;
+    /// Runs of kChunk segments with their boxes and smallest node size, so that a query
+    /// skips the far parts of a long edge (a slender face has two edges of 10^4 nodes
+    /// side by side).
+    struct Chunk {
+      geom::Vec3 lo, hi;
+      double hmin;
+    };
+    std::vector<Chunk> chunks;
+    std::vector<Chunk> groups;  ///< boxes of kChunk consecutive chunks
   };
+  static constexpr std::size_t kChunk = 16;
   std::vector<EdgePoly> poly_;
   std::vector<std::vector<geom::Id>> face_edges_;  ///< distinct non-degenerate edges per face
   std::vector<std::vector<geom::Id>> edge_faces_;  ///< distinct faces per edge
