@@ -15,8 +15,14 @@
 #include <draco/metadata/geometry_metadata.h>
 #include <draco/scene/scene.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <csignal>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -194,7 +200,45 @@ std::string encode_glb(const SurfaceMesh& m, const geom::Model* model, const Wri
   return "";
 }
 
+namespace {
+
+// Draco's decoder (1.5.5) is not hardened against malformed input: some corrupt files
+// make it crash or loop instead of returning an error status. So a file is decoded first
+// in a child process (fork: the child runs only this thread, and glibc keeps malloc usable
+// across fork); only when the child finished cleanly is it decoded here. "" or the reason.
+std::string probe_decode(const char* data, std::size_t size) {
+  const pid_t pid = ::fork();
+  if (pid < 0) return "";  // cannot probe: decode directly, as without the probe
+  if (pid == 0) {
+    const rlimit no_core{0, 0};
+    ::setrlimit(RLIMIT_CORE, &no_core);
+    draco::DecoderBuffer db;
+    db.Init(data, size);
+    draco::Decoder dec;
+    const bool ok = dec.DecodeMeshFromBuffer(&db).ok();
+    ::_exit(ok ? 0 : 1);
+  }
+  int status = 0;
+  // Bounded wait: a decoder stuck in a loop is an error too, not a hang.
+  for (int ms = 0; ms < 120000; ++ms) {
+    const pid_t w = ::waitpid(pid, &status, WNOHANG);
+    if (w == pid) {
+      if (WIFSIGNALED(status))
+        return "Draco's decoder crashed on the file (signal " + std::to_string(WTERMSIG(status)) + "): corrupt data";
+      return "";  // exit 1 is a clean error status: the real decode reports it
+    }
+    if (w < 0) return "";
+    ::usleep(1000);
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return "Draco's decoder did not finish within 120 s: corrupt data";
+}
+
+}  // namespace
+
 std::string decode_drc(const char* data, std::size_t size, SurfaceMesh& m, bool& has_face_ids) {
+  if (std::string why = probe_decode(data, size); !why.empty()) return why;
   draco::DecoderBuffer db;
   db.Init(data, size);
   draco::Decoder dec;
@@ -208,22 +252,31 @@ std::string decode_drc(const char* data, std::size_t size, SurfaceMesh& m, bool&
     fid = dm->GetAttributeByUniqueId(md->att_unique_id());
   has_face_ids = fid != nullptr;
 
-  // Merge points by decoded position value (see the file comment).
+  // Merge points by decoded position value (see the file comment). Values are read
+  // through ConvertValue with the component count asked for, so that an attribute of
+  // another type or width (a corrupt or foreign file) cannot write past the buffers.
   std::map<std::array<float, 3>, NodeId> node_of;
   std::vector<NodeId> node(dm->num_points());
   for (draco::PointIndex p(0); p < dm->num_points(); ++p) {
     std::array<float, 3> v{};
-    pos->GetMappedValue(p, v.data());
+    if (!pos->ConvertValue<float>(pos->mapped_index(p), 3, v.data()))
+      return "point " + std::to_string(p.value()) + " has no readable position";
+    if (!std::isfinite(v[0]) || !std::isfinite(v[1]) || !std::isfinite(v[2]))
+      return "point " + std::to_string(p.value()) + " has a non-finite position";
     auto [it, fresh] = node_of.emplace(v, static_cast<NodeId>(m.points.size()));
     if (fresh) m.points.emplace_back(v[0], v[1], v[2]);
     node[p.value()] = it->second;
   }
   for (draco::FaceIndex f(0); f < dm->num_faces(); ++f) {
     const draco::Mesh::Face& face = dm->face(f);
+    for (int k = 0; k < 3; ++k)
+      if (face[k].value() >= dm->num_points())
+        return "face " + std::to_string(f.value()) + " refers to point " + std::to_string(face[k].value()) +
+               " of " + std::to_string(dm->num_points());
     m.triangles.push_back({node[face[0].value()], node[face[1].value()], node[face[2].value()]});
     std::int32_t id = 0;
-    if (fid) fid->GetMappedValue(face[0], &id);
-    m.triangle_face.push_back(id);
+    if (fid && !fid->ConvertValue<std::int32_t>(fid->mapped_index(face[0]), 1, &id)) id = 0;
+    m.triangle_face.push_back(std::max<std::int32_t>(id, 0));
   }
   return "";
 }

@@ -23,6 +23,8 @@ std::string encode_glb(const surface::SurfaceMesh& m, const geom::Model* model, 
 /// Decodes a .drc file's bytes. Points at identical decoded positions are merged (the
 /// writer splits vertices between faces; quantization maps the copies to one value).
 /// triangle_face from the "face_id" attribute when present (else 0). "" or the reason.
+/// The bytes are decoded in a child process first (Draco's decoder can crash on corrupt
+/// data), so a corrupt file is an error here, never a crash of the caller.
 std::string decode_drc(const char* data, std::size_t size, surface::SurfaceMesh& m, bool& has_face_ids);
 
 }  // namespace uvmesh::io::detail

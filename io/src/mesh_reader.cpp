@@ -22,6 +22,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <new>
 #include <string_view>
 #include <unordered_map>
 
@@ -201,6 +202,10 @@ NodeId checked_index(std::int64_t one_based, std::size_t np, const std::string& 
   return static_cast<NodeId>(one_based - 1);
 }
 
+// A count read from a file sizes a reservation only up to a bound: a corrupt count must
+// give "file ends" at the data, not an allocation of gigabytes first.
+std::size_t bounded(std::int64_t n) { return static_cast<std::size_t>(std::clamp<std::int64_t>(n, 0, 1 << 20)); }
+
 geom::Id entity_id(std::int64_t tag) { return tag >= 1 ? static_cast<geom::Id>(tag - 1) : 0; }
 
 // Classification from the elements (mesh_reader.h): vertices of point elements, nodes of
@@ -314,8 +319,8 @@ void read_msh22(Text& t, MeshReadResult& r) {
     const std::string_view sec = t.token();
     if (sec == "$Nodes") {
       const std::int64_t n = t.count("the number of nodes");
-      nodes.reserve(static_cast<std::size_t>(n));
-      m.points.reserve(static_cast<std::size_t>(n));
+      nodes.reserve(bounded(n));
+      m.points.reserve(bounded(n));
       for (std::int64_t i = 0; i < n; ++i) {
         const std::int64_t tag = t.integer("a node tag");
         nodes.add(tag, static_cast<NodeId>(m.points.size()), t.where());
@@ -423,8 +428,8 @@ void read_msh41(Text& t, Bytes* bin, MeshReadResult& r) {
       const std::int64_t total = in.count("the number of nodes");
       in.z("the smallest node tag");
       in.z("the largest node tag");
-      nodes.reserve(static_cast<std::size_t>(total));
-      m.points.reserve(static_cast<std::size_t>(total));
+      nodes.reserve(bounded(total));
+      m.points.reserve(bounded(total));
       for (std::int64_t b = 0; b < blocks; ++b) {
         const std::int64_t dim = in.i("a node block dimension");
         const std::int64_t tag = in.i("a node block entity tag");
@@ -552,7 +557,7 @@ void read_medit_ascii(const std::string& data, MeshReadResult& r) {
       if (dim != 2 && dim != 3) fail(t.where() + ": dimension " + std::to_string(dim));
     } else if (kw == "Vertices") {
       const std::int64_t n = t.count("the number of vertices");
-      m.points.reserve(static_cast<std::size_t>(n));
+      m.points.reserve(bounded(n));
       for (std::int64_t i = 0; i < n; ++i) {
         geom::Vec3 p(0.0);
         for (int k = 0; k < dim; ++k) p[k] = t.real("a coordinate");
@@ -1035,6 +1040,10 @@ MeshReadResult read_mesh_data(const std::string& data, MeshFormat format, const 
   } catch (const ParseError& e) {
     r = MeshReadResult{};
     r.error = path + ": " + e.what;
+    return r;
+  } catch (const std::bad_alloc&) {
+    r = MeshReadResult{};
+    r.error = path + ": out of memory while reading (corrupt counts?)";
     return r;
   }
   if (r.mesh.triangles.empty()) {

@@ -214,6 +214,52 @@ TEST_CASE("mesh formats: corrupt and truncated files give one located error", "[
   }
 }
 
+TEST_CASE("mesh formats: random byte corruptions give a mesh or an error, never a crash", "[io][mesh_formats]") {
+  TempDir dir("mesh_formats");
+  const Cube cube = named_cube(2);
+  std::uint64_t state = 0x9e3779b97f4a7c15ULL;  // fixed seed: the same files every run
+  auto next = [&state] {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return state;
+  };
+  for (const Case& c : readable_cases()) {
+    SECTION(c.name) {
+      const std::string path = dir.file(c.file);
+      write_ok(cube.mesh, &cube.model, path, options_of(c));
+      const std::string data = slurp(path);
+      io::MeshReadOptions ro;
+      ro.format = c.format;
+      int errors = 0;
+      for (int k = 0; k < 150; ++k) {
+        std::string bad = data;
+        const int flips = 1 + static_cast<int>(next() % 4);
+        for (int i = 0; i < flips; ++i) {
+          const std::size_t at = next() % bad.size();
+          // Digits, separators and random bytes: the text formats' likely corruptions.
+          static constexpr char kChars[] = "0123456789 -.\n$eE";
+          bad[at] = next() % 2 ? kChars[next() % (sizeof kChars - 1)] : static_cast<char>(next() & 0xff);
+        }
+        const std::string p = dir.file("fuzz_" + std::string(c.file));
+        std::ofstream(p, std::ios::binary) << bad;
+        const io::MeshReadResult r = io::read_mesh(p, ro);
+        if (!r.ok) {
+          ++errors;
+          CHECK(r.error.rfind(p + ": ", 0) == 0);
+        } else {
+          // A mesh that reads is consistent: indices in range, one face id per triangle.
+          CHECK(r.mesh.triangle_face.size() == r.mesh.triangles.size());
+          for (const auto& t : r.mesh.triangles)
+            for (surface::NodeId v : t) CHECK((v >= 0 && static_cast<std::size_t>(v) < r.mesh.points.size()));
+        }
+      }
+      INFO(errors << " of 150 corrupted files rejected");
+      CHECK(errors > 0);
+    }
+  }
+}
+
 TEST_CASE("mesh formats: malformed files name the line or byte and the problem", "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   auto error_of = [&](const std::string& name, const std::string& text) {
