@@ -167,8 +167,8 @@ int main(int argc, char** argv) {
   std::cout << "\nDraco (compression level 10 = smallest, 7 = default) against binary STL (" << mib(stl)
             << " MiB) and binary PLY (" << mib(ply) << " MiB). Largest extent " << extent
             << "; max error = largest distance from a decoded .drc vertex to its original (bound: sqrt(3)/2 * extent / (2^bits - 1)).\n\n";
-  std::cout << "| bits | level | .drc KiB | .glb KiB | STL / .drc | STL / .glb | PLY / .glb | write .glb s | max error | bound | error / extent |\n"
-               "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  std::cout << "| bits | level | .drc KiB | .glb KiB | STL / .drc | STL / .glb | PLY / .glb | write .glb s | max error | bound | error / extent | points merged | triangles collapsed |\n"
+               "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   double goal_ratio = 0;
   for (int bits : {11, 14, 16})
     for (int level : {7, 10}) {
@@ -186,12 +186,17 @@ int main(int argc, char** argv) {
       const double step = extent / ((1 << bits) - 1);
       const double bound = 0.5 * std::sqrt(3.0) * step;
       const double err = max_position_error(m, d.mesh, 2.0 * step);
-      char line[320];
-      std::snprintf(line, sizeof line, "| %d | %d | %.0f | %.0f | %.1f | %.1f | %.1f | %.3f | %.3g | %.3g | %.2g |\n", bits,
+      // Points closer than a quantization step land on one grid point: the decoded mesh
+      // has fewer points, and triangles spanning such a pair collapse.
+      std::size_t collapsed = 0;
+      for (const auto& t : d.mesh.triangles) collapsed += t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+      char line[400];
+      std::snprintf(line, sizeof line, "| %d | %d | %.0f | %.0f | %.1f | %.1f | %.1f | %.3f | %.3g | %.3g | %.2g | %zu | %zu |\n", bits,
                     level, static_cast<double>(wd.bytes) / 1024.0, static_cast<double>(wg.bytes) / 1024.0,
                     static_cast<double>(stl) / static_cast<double>(wd.bytes),
                     static_cast<double>(stl) / static_cast<double>(wg.bytes),
-                    static_cast<double>(ply) / static_cast<double>(wg.bytes), wg.seconds, err, bound, err / extent);
+                    static_cast<double>(ply) / static_cast<double>(wg.bytes), wg.seconds, err, bound, err / extent,
+                    m.points.size() - d.mesh.points.size(), collapsed);
       std::cout << line;
       if (bits == 14 && level == 7) goal_ratio = static_cast<double>(stl) / static_cast<double>(wg.bytes);
     }

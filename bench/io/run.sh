@@ -38,6 +38,8 @@ trap 'rm -rf "$work"' EXIT
   echo "files keep every bit of the coordinates while binary STL keeps floats only. Draco's time is"
   echo "its encoder (edgebreaker, parallelogram prediction); vertices are split per CAD face (own"
   echo "normals), and quantization is on the largest extent of the mesh (.drc) or of each solid (.glb)."
+  echo "Points closer than one quantization step merge when decoded (the columns 'points merged' and"
+  echo "'triangles collapsed'): a lossy format for viewing, not for seeding a volume mesher."
 } > "$here/results.md.tmp"
 mv "$here/results.md.tmp" "$here/results.md"
 echo "wrote $here/results.md"

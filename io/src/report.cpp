@@ -73,9 +73,13 @@ std::size_t components(const SurfaceMesh& m, const EdgeTable& e) {
       const std::int32_t a = find(e.users[e.first[k]]), b = find(e.users[i]);
       if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
     }
-  // Triangles left out of the edge table (degenerate by index) count as their own.
+  // Triangles left out of the edge table (degenerate by index) are no component: the
+  // topology section counts them as degenerate.
+  std::vector<char> in_table(m.triangles.size(), 0);
+  for (std::int32_t t : e.users) in_table[static_cast<std::size_t>(t)] = 1;
   std::size_t n = 0;
-  for (std::size_t t = 0; t < parent.size(); ++t) n += find(static_cast<std::int32_t>(t)) == static_cast<std::int32_t>(t);
+  for (std::size_t t = 0; t < parent.size(); ++t)
+    n += in_table[t] && find(static_cast<std::int32_t>(t)) == static_cast<std::int32_t>(t);
   return n;
 }
 

@@ -52,7 +52,7 @@ struct Histogram {
 struct CheckData {
   std::size_t points = 0, triangles = 0, segments = 0;
   surface::TopologyReport topology;
-  std::size_t components = 0;  ///< edge-connected components of the triangles
+  std::size_t components = 0;  ///< edge-connected components of the non-degenerate triangles
   /// Free mesh edges lying on model edges used by at most one face (open shells: expected);
   /// set only with a model.
   std::optional<std::size_t> free_edges_on_open_model_edges;
