@@ -2,6 +2,7 @@
 // field (§7.5, §7.6.1). Stages and their sections are listed in mesher2d.h.
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -111,7 +112,7 @@ class Mesher {
       refine();
       stage("field points", t0);
       if (opt_.check && !internal_check("after field points")) return;
-      if (opt_.optimize) {
+      if (opt_.optimize && res_.status.code != StatusCode::TimeLimit) {
         optimize();
         stage("optimization", t0);
         if (opt_.check && !internal_check("after optimization")) return;
@@ -804,9 +805,15 @@ class Mesher {
         }
       }
       if (cands.empty()) break;
+      if (over_time("refinement")) return;
       std::int64_t inserted = 0;
       VertId last_v = kNone;
+      std::size_t since_check = 0;
       for (const Cand& c : cands) {
+        if (++since_check == 4096) {
+          since_check = 0;
+          if (over_time("refinement")) return;
+        }
         if (static_cast<std::int64_t>(tri_.pts.size()) >= opt_.max_vertices) {
           res_.status.code = StatusCode::Incomplete;
           res_.status.message = "refinement stopped at max_vertices = " + std::to_string(opt_.max_vertices);
@@ -1023,9 +1030,22 @@ class Mesher {
     return swaps;
   }
 
+  // Options::time_limit: true (and the status set) once it is exceeded.
+  bool over_time(const char* stage) {
+    if (!(opt_.time_limit > 0) || res_.status.code == StatusCode::TimeLimit) return res_.status.code == StatusCode::TimeLimit;
+    const double s = std::chrono::duration<double>(Clock::now() - t_start_).count();
+    if (s <= opt_.time_limit) return false;
+    res_.status.code = StatusCode::TimeLimit;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", opt_.time_limit);
+    res_.status.message = std::string("time limit of ") + buf + " s reached during " + stage;
+    return true;
+  }
+
   void optimize() {
     iso_uniform_ = size_.kind == SizeSpec::Kind::Uniform;
     for (int pass = 0; pass < 3; ++pass) {
+      if (over_time("optimization")) return;
       const std::int64_t s = valence_pass();
       res_.stats.swaps += s;
       res_.stats.relocations += smooth_pass();
@@ -1035,6 +1055,7 @@ class Mesher {
     // last passes of a converged smoothing only polish the mean, not the worst element.
     constexpr double kSmoothSettled = 0.02;
     for (int pass = 0; pass < opt_.optimize_passes && !field_error_; ++pass) {
+      if (over_time("optimization")) return;
       const std::int64_t s = swap_pass();
       const std::int64_t r = smooth_pass();
       res_.stats.swaps += s;
@@ -1117,6 +1138,7 @@ class Mesher {
   std::vector<std::int32_t> xy_order_;  // input points sorted by (x, y)
   std::vector<VertId> vid_;         // point index -> triangulation vertex
   std::vector<SegRec> segs_;
+  Clock::time_point t_start_ = Clock::now();  // for Options::time_limit
   std::vector<double> rs_;  // per vertex: boundary size ratio (<= 1; Options::boundary_gradation)
   std::vector<char> fixed_;         // per triangulation vertex: not movable
   std::vector<int> vmark_;          // per triangulation vertex: marker

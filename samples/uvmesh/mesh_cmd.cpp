@@ -143,6 +143,11 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_option("--report", f.report, "write a JSON report (counts, times, quality, chordal, topology)");
   c->add_flag("--allow-holes", f.allow_holes, "exit 0 even when some faces could not be meshed");
   c->add_flag("--no-optimize3d", f.no_optimize3d, "skip the 3D swaps and smoothing");
+  c->add_option("--face-time-limit", f.face_time_limit,
+                "seconds the 2D mesher may spend on one face (0: no limit); a face beyond it is "
+                "reported as failed and the rest of the model is meshed")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   c->add_flag("--no-selfint", f.no_selfint, "skip the self-intersection check of the report");
   c->add_flag("-q,--quiet", f.quiet, "no summary line");
   add_write_flags(c, f.write);
@@ -235,6 +240,7 @@ int run_mesh(const MeshFlags& f) {
       return 1;
     }
   o.threads = f.threads;
+  o.face_time_limit = f.face_time_limit;
   o.optimize3d = !f.no_optimize3d;
   const bool tty = isatty(STDERR_FILENO) && !f.quiet;
   std::mutex mu;

@@ -21,6 +21,7 @@ struct MeshFlags {
   bool iso = false;
   double aniso = 0;  ///< > 0: anisotropic curvature sizes with this maximum ratio
   int threads = 0;
+  double face_time_limit = 120.0;  // seconds per face in the 2D mesher; 0 = none
   bool allow_holes = false;
   bool no_optimize3d = false;
   bool no_selfint = false;

@@ -18,6 +18,8 @@ std::string status_name(m2d::StatusCode c) {
       return "Incomplete";
     case m2d::StatusCode::InternalError:
       return "InternalError";
+    case m2d::StatusCode::TimeLimit:
+      return "TimeLimit";
   }
   return "Unknown";
 }

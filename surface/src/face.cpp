@@ -229,6 +229,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   o.domain_from_orientation = true;  // outer loop CCW, holes CW in (u,v)
   o.max_anisotropy = opt.size.max_uv_anisotropy;
   o.boundary_gradation = std::max(opt.size.gradation, 1.05);
+  o.time_limit = opt.face_time_limit;
   const m2d::Result r = m2d::mesh(in, size, o);
   if (!r.ok()) {
     std::string msg = r.status.message;

@@ -49,6 +49,7 @@ const char* code_name(StatusCode c) {
     case StatusCode::OpenBoundary: return "OpenBoundary";
     case StatusCode::Incomplete: return "Incomplete";
     case StatusCode::InternalError: return "InternalError";
+    case StatusCode::TimeLimit: return "TimeLimit";
   }
   return "?";
 }

@@ -327,3 +327,16 @@ TEST_CASE("domain_from_orientation: a dangling segment chain inside keeps the fa
   }
   CHECK(area == Approx(4.0));
 }
+
+TEST_CASE("time_limit: refinement that would run long stops with TimeLimit", "[regression]") {
+  // Per-face time limit of the surface mesher (issue 7): a runaway domain is reported,
+  // not waited for. A million-triangle request under a microsecond budget must stop.
+  Pslg g;
+  add_loop(g, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
+  Options o;
+  o.time_limit = 1e-6;
+  const Result r = mesh(g, SizeSpec::scalar([](double, double) { return 1e-3; }), o);
+  CHECK(r.status.code == StatusCode::TimeLimit);
+  CHECK(r.status.message.find("time limit") != std::string::npos);
+  CHECK_FALSE(r.ok());
+}

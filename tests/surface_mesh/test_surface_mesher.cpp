@@ -180,6 +180,15 @@ TEST_CASE("surface mesher: a face that cannot be meshed is reported, the rest is
   CHECK(surface::check_topology(r.mesh).free_edges > 0);
 }
 
+TEST_CASE("surface mesher: a face beyond the per-face time limit is reported, the run finishes", "[surface]") {
+  const geom::Model m = load(data("cad/gmsh_cube_fillet.stp"));
+  surface::MeshOptions o = defaults(m);
+  o.face_time_limit = 1e-9;  // every face that needs field points exceeds it
+  const surface::MeshResult r = surface::mesh_model(m, o);
+  REQUIRE_FALSE(r.failed.empty());
+  for (const auto& f : r.failed) CHECK(f.reason.find("time limit") != std::string::npos);
+}
+
 TEST_CASE("surface mesher: the mesh is identical for 1 and 2 threads", "[surface]") {
   const geom::Model m = load(std::string(UVMESH_SOURCE_DIR) + "/samples/data/bracket.step");
   const surface::MeshResult a = surface::mesh_model(m, defaults(m, 1));

@@ -99,6 +99,10 @@ struct Options {
   bool anisotropic_kernel = true;       // §7.6.1 cavity criterion under M(P) when kind==Metric
   double max_anisotropy = 1e6;          // cap on the ratio of metric eigenvalues' square roots
   std::int64_t max_vertices = 200'000'000;  // refinement stops (status Incomplete) beyond this
+  // Wall-clock seconds for refinement and optimization (0: no limit). Beyond it the mesher
+  // stops with status TimeLimit, so that a caller meshing many domains (CAD faces) can
+  // report the one that would run away instead of never finishing.
+  double time_limit = 0;
   bool check = false;                   // run the checker after each stage (debug builds: on)
 };
 
@@ -163,6 +167,7 @@ enum class StatusCode {
   OpenBoundary,       // a hole or the exterior leaks into every triangle: nothing left
   Incomplete,         // refinement stopped early (max_vertices); the mesh is valid
   InternalError,      // the checker found an invalid triangulation (a bug: please report)
+  TimeLimit,          // Options::time_limit was reached during refinement or optimization
 };
 
 struct Status {

@@ -42,6 +42,9 @@ struct MeshOptions {
   /// Rounds of size caps on the edges from the other edges of their faces (gradation
   /// across a face and proximity of another part of its boundary); 0 = off.
   int boundary_size_rounds = 3;
+  /// Wall-clock seconds the 2D mesher may spend on one face (0: no limit). A face that
+  /// exceeds it fails with that reason, like any other failed face, and the run goes on.
+  double face_time_limit = 120.0;
   /// Called after each face, from the worker thread that meshed it (so it must be
   /// thread-safe): faces done so far, total faces.
   std::function<void(int, int)> progress;
