@@ -32,8 +32,8 @@ struct Written {
   std::uintmax_t bytes = 0;
 };
 
-Written write_timed(const surface::SurfaceMesh& m, const geom::Model* model, const std::string& path,
-                    const io::WriteOptions& o, int repeat) {
+Written write_timed(const surface::SurfaceMesh& m, const geom::Model* model,
+                    const std::string& path, const io::WriteOptions& o, int repeat) {
   Written w;
   w.seconds = std::numeric_limits<double>::infinity();
   for (int i = 0; i < repeat; ++i) {
@@ -53,14 +53,18 @@ Written write_timed(const surface::SurfaceMesh& m, const geom::Model* model, con
 // Largest distance from a decoded point to the nearest original point, through a uniform
 // grid of cell `h` (h at least the largest expected error, so the 27 neighbour cells
 // hold the nearest point).
-double max_position_error(const surface::SurfaceMesh& orig, const surface::SurfaceMesh& dec, double h) {
+double max_position_error(const surface::SurfaceMesh& orig, const surface::SurfaceMesh& dec,
+                          double h) {
   auto key = [h](const geom::Vec3& p, int dx, int dy, int dz) {
-    const auto c = [h](double v, int d) { return static_cast<std::int64_t>(std::floor(v / h)) + d; };
+    const auto c = [h](double v, int d) {
+      return static_cast<std::int64_t>(std::floor(v / h)) + d;
+    };
     return (c(p.x, dx) * 73856093) ^ (c(p.y, dy) * 19349663) ^ (c(p.z, dz) * 83492791);
   };
   std::unordered_multimap<std::int64_t, std::size_t> grid;
   grid.reserve(orig.points.size());
-  for (std::size_t i = 0; i < orig.points.size(); ++i) grid.emplace(key(orig.points[i], 0, 0, 0), i);
+  for (std::size_t i = 0; i < orig.points.size(); ++i)
+    grid.emplace(key(orig.points[i], 0, 0, 0), i);
   double worst = 0;
   for (const geom::Vec3& p : dec.points) {
     double best = std::numeric_limits<double>::infinity();
@@ -88,10 +92,14 @@ int main(int argc, char** argv) {
   int repeat = 3;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--model" && i + 1 < argc) model_path = argv[++i];
-    else if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--dir" && i + 1 < argc) dir = argv[++i];
-    else if (mesh_path.empty()) mesh_path = a;
+    if (a == "--model" && i + 1 < argc)
+      model_path = argv[++i];
+    else if (a == "--repeat" && i + 1 < argc)
+      repeat = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--dir" && i + 1 < argc)
+      dir = argv[++i];
+    else if (mesh_path.empty())
+      mesh_path = a;
     else {
       std::cerr << "usage: bench_io MESH.msh [--model MODEL] [--repeat N] [--dir DIR]\n";
       return 1;
@@ -120,7 +128,8 @@ int main(int argc, char** argv) {
 
   std::cout << "Mesh: " << m.points.size() << " points, " << m.triangles.size() << " triangles, "
             << m.segments.size() << " segments; fastest of " << repeat << " writes.\n\n";
-  std::cout << "| format | encoding | file | MiB | bytes/triangle | write s | M triangles/s |\n|---|---|---|---:|---:|---:|---:|\n";
+  std::cout << "| format | encoding | file | MiB | bytes/triangle | write s | M triangles/s "
+               "|\n|---|---|---|---:|---:|---:|---:|\n";
   struct Row {
     const char* name;
     const char* file;
@@ -158,24 +167,30 @@ int main(int argc, char** argv) {
                   static_cast<double>(w.bytes) / nt, w.seconds, nt / 1e6 / w.seconds);
     std::cout << line;
   }
-  const std::uintmax_t stl = fs::file_size(fs::path(dir) / "m.stl"), ply = fs::file_size(fs::path(dir) / "m.ply");
+  const std::uintmax_t stl = fs::file_size(fs::path(dir) / "m.stl"),
+                       ply = fs::file_size(fs::path(dir) / "m.ply");
 
   geom::Box3 box;
   for (const auto& p : m.points) box.add(p);
   const geom::Vec3 ext = box.hi - box.lo;
   const double extent = std::max({ext.x, ext.y, ext.z});
-  std::cout << "\nDraco (compression level 10 = smallest, 7 = default) against binary STL (" << mib(stl)
-            << " MiB) and binary PLY (" << mib(ply) << " MiB). Largest extent " << extent
-            << "; max error = largest distance from a decoded .drc vertex to its original (bound: sqrt(3)/2 * extent / (2^bits - 1)).\n\n";
-  std::cout << "| bits | level | .drc KiB | .glb KiB | STL / .drc | STL / .glb | PLY / .glb | write .glb s | max error | bound | error / extent | points merged | triangles collapsed |\n"
-               "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  std::cout << "\nDraco (compression level 10 = smallest, 7 = default) against binary STL ("
+            << mib(stl) << " MiB) and binary PLY (" << mib(ply) << " MiB). Largest extent "
+            << extent
+            << "; max error = largest distance from a decoded .drc vertex to its original (bound: "
+               "sqrt(3)/2 * extent / (2^bits - 1)).\n\n";
+  std::cout
+      << "| bits | level | .drc KiB | .glb KiB | STL / .drc | STL / .glb | PLY / .glb | write .glb "
+         "s | max error | bound | error / extent | points merged | triangles collapsed |\n"
+         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   double goal_ratio = 0;
   for (int bits : {11, 14, 16})
     for (int level : {7, 10}) {
       io::WriteOptions o;
       o.draco_bits = bits;
       o.draco_level = level;
-      const std::string drc = (fs::path(dir) / ("q.drc")).string(), glb = (fs::path(dir) / ("q.glb")).string();
+      const std::string drc = (fs::path(dir) / ("q.drc")).string(),
+                        glb = (fs::path(dir) / ("q.glb")).string();
       const Written wd = write_timed(m, model, drc, o, 1);
       const Written wg = write_timed(m, model, glb, o, repeat);
       const io::MeshReadResult d = io::read_mesh(drc);
@@ -189,18 +204,25 @@ int main(int argc, char** argv) {
       // Points closer than a quantization step land on one grid point: the decoded mesh
       // has fewer points, and triangles spanning such a pair collapse.
       std::size_t collapsed = 0;
-      for (const auto& t : d.mesh.triangles) collapsed += t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+      for (const auto& t : d.mesh.triangles)
+        collapsed += t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
       char line[400];
-      std::snprintf(line, sizeof line, "| %d | %d | %.0f | %.0f | %.1f | %.1f | %.1f | %.3f | %.3g | %.3g | %.2g | %zu | %zu |\n", bits,
-                    level, static_cast<double>(wd.bytes) / 1024.0, static_cast<double>(wg.bytes) / 1024.0,
+      std::snprintf(line, sizeof line,
+                    "| %d | %d | %.0f | %.0f | %.1f | %.1f | %.1f | %.3f | %.3g | %.3g | %.2g | "
+                    "%zu | %zu |\n",
+                    bits, level, static_cast<double>(wd.bytes) / 1024.0,
+                    static_cast<double>(wg.bytes) / 1024.0,
                     static_cast<double>(stl) / static_cast<double>(wd.bytes),
                     static_cast<double>(stl) / static_cast<double>(wg.bytes),
-                    static_cast<double>(ply) / static_cast<double>(wg.bytes), wg.seconds, err, bound, err / extent,
-                    m.points.size() - d.mesh.points.size(), collapsed);
+                    static_cast<double>(ply) / static_cast<double>(wg.bytes), wg.seconds, err,
+                    bound, err / extent, m.points.size() - d.mesh.points.size(), collapsed);
       std::cout << line;
-      if (bits == 14 && level == 7) goal_ratio = static_cast<double>(stl) / static_cast<double>(wg.bytes);
+      if (bits == 14 && level == 7)
+        goal_ratio = static_cast<double>(stl) / static_cast<double>(wg.bytes);
     }
-  std::printf("\nGoal: .glb+Draco at 14 bits (default level 7) at most 1/8 of binary STL: it is 1/%.1f, %s.\n", goal_ratio,
-              goal_ratio >= 8.0 ? "met" : "NOT met");
+  std::printf(
+      "\nGoal: .glb+Draco at 14 bits (default level 7) at most 1/8 of binary STL: it is 1/%.1f, "
+      "%s.\n",
+      goal_ratio, goal_ratio >= 8.0 ? "met" : "NOT met");
   return 0;
 }

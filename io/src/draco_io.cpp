@@ -14,7 +14,6 @@
 #include <draco/mesh/mesh.h>
 #include <draco/metadata/geometry_metadata.h>
 #include <draco/scene/scene.h>
-
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,7 +22,6 @@
 #include <array>
 #include <cmath>
 #include <csignal>
-#include <cmath>
 #include <map>
 #include <memory>
 #include <unordered_map>
@@ -96,14 +94,17 @@ std::unique_ptr<draco::Mesh> to_draco(const SurfaceMesh& m, const SplitMesh& s, 
   dm->set_num_points(static_cast<unsigned>(n));
   add_float_attribute(*dm, draco::GeometryAttribute::POSITION, n,
                       [&](std::size_t i) { return m.points[static_cast<std::size_t>(s.node[i])]; });
-  add_float_attribute(*dm, draco::GeometryAttribute::NORMAL, n, [&](std::size_t i) { return s.normal[i]; });
+  add_float_attribute(*dm, draco::GeometryAttribute::NORMAL, n,
+                      [&](std::size_t i) { return s.normal[i]; });
   if (face_ids) {
     draco::GeometryAttribute ga;
-    ga.Init(draco::GeometryAttribute::GENERIC, nullptr, 1, draco::DT_INT32, false, sizeof(std::int32_t), 0);
+    ga.Init(draco::GeometryAttribute::GENERIC, nullptr, 1, draco::DT_INT32, false,
+            sizeof(std::int32_t), 0);
     const int id = dm->AddAttribute(ga, true, static_cast<unsigned>(n));
     for (std::size_t i = 0; i < n; ++i) {
       const std::int32_t f = s.face[i];
-      dm->attribute(id)->SetAttributeValue(draco::AttributeValueIndex(static_cast<unsigned>(i)), &f);
+      dm->attribute(id)->SetAttributeValue(draco::AttributeValueIndex(static_cast<unsigned>(i)),
+                                           &f);
     }
     // The name travels as attribute metadata, which draco_decoder and our reader keep.
     auto md = std::make_unique<draco::AttributeMetadata>();
@@ -111,7 +112,8 @@ std::unique_ptr<draco::Mesh> to_draco(const SurfaceMesh& m, const SplitMesh& s, 
     dm->AddAttributeMetadata(id, std::move(md));
   }
   for (const auto& t : s.tris)
-    dm->AddFace({draco::PointIndex(static_cast<unsigned>(t[0])), draco::PointIndex(static_cast<unsigned>(t[1])),
+    dm->AddFace({draco::PointIndex(static_cast<unsigned>(t[0])),
+                 draco::PointIndex(static_cast<unsigned>(t[1])),
                  draco::PointIndex(static_cast<unsigned>(t[2]))});
   return dm;
 }
@@ -147,7 +149,8 @@ std::string encode_glb(const SurfaceMesh& m, const geom::Model* model, const Wri
   std::map<std::size_t, std::vector<std::size_t>> groups;
   std::map<std::size_t, std::string> names;
   if (opts.glb_groups == GlbGroups::Face || !model || model->solids.empty()) {
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) groups[static_cast<std::size_t>(m.triangle_face[t])].push_back(t);
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+      groups[static_cast<std::size_t>(m.triangle_face[t])].push_back(t);
     for (const auto& [f, tris] : groups) {
       const bool named = model && f < model->faces.size() && !model->faces[f].name.empty();
       names[f] = named ? model->faces[f].name : "face_" + std::to_string(f);
@@ -161,13 +164,14 @@ std::string encode_glb(const SurfaceMesh& m, const geom::Model* model, const Wri
       for (geom::Id sh : model->solids[s].shells)
         if (sh >= 0 && static_cast<std::size_t>(sh) < model->shells.size())
           for (geom::Id f : model->shells[static_cast<std::size_t>(sh)].faces)
-            if (f >= 0 && static_cast<std::size_t>(f) < solid_of.size()) solid_of[static_cast<std::size_t>(f)] = s;
+            if (f >= 0 && static_cast<std::size_t>(f) < solid_of.size())
+              solid_of[static_cast<std::size_t>(f)] = s;
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       const auto f = static_cast<std::size_t>(m.triangle_face[t]);
       groups[f < solid_of.size() ? solid_of[f] : loose].push_back(t);
     }
     for (const auto& [s, tris] : groups)
-      names[s] = s == loose ? "loose_faces"
+      names[s] = s == loose                      ? "loose_faces"
                  : model->solids[s].name.empty() ? "solid_" + std::to_string(s + 1)
                                                  : model->solids[s].name;
   }
@@ -224,7 +228,8 @@ std::string probe_decode(const char* data, std::size_t size) {
     const pid_t w = ::waitpid(pid, &status, WNOHANG);
     if (w == pid) {
       if (WIFSIGNALED(status))
-        return "Draco's decoder crashed on the file (signal " + std::to_string(WTERMSIG(status)) + "): corrupt data";
+        return "Draco's decoder crashed on the file (signal " + std::to_string(WTERMSIG(status)) +
+               "): corrupt data";
       return "";  // exit 1 is a clean error status: the real decode reports it
     }
     if (w < 0) return "";
@@ -248,7 +253,8 @@ std::string decode_drc(const char* data, std::size_t size, SurfaceMesh& m, bool&
   const draco::PointAttribute* pos = dm->GetNamedAttribute(draco::GeometryAttribute::POSITION);
   if (!pos || pos->num_components() < 3) return "the Draco mesh has no 3D positions";
   const draco::PointAttribute* fid = nullptr;
-  if (const draco::AttributeMetadata* md = dm->GetAttributeMetadataByStringEntry("name", kFaceIdName))
+  if (const draco::AttributeMetadata* md =
+          dm->GetAttributeMetadataByStringEntry("name", kFaceIdName))
     fid = dm->GetAttributeByUniqueId(md->att_unique_id());
   has_face_ids = fid != nullptr;
 
@@ -271,8 +277,8 @@ std::string decode_drc(const char* data, std::size_t size, SurfaceMesh& m, bool&
     const draco::Mesh::Face& face = dm->face(f);
     for (int k = 0; k < 3; ++k)
       if (face[k].value() >= dm->num_points())
-        return "face " + std::to_string(f.value()) + " refers to point " + std::to_string(face[k].value()) +
-               " of " + std::to_string(dm->num_points());
+        return "face " + std::to_string(f.value()) + " refers to point " +
+               std::to_string(face[k].value()) + " of " + std::to_string(dm->num_points());
     m.triangles.push_back({node[face[0].value()], node[face[1].value()], node[face[2].value()]});
     std::int32_t id = 0;
     if (fid && !fid->ConvertValue<std::int32_t>(fid->mapped_index(face[0]), 1, &id)) id = 0;

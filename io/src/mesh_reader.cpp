@@ -39,12 +39,15 @@ struct ParseError {
   std::string what;
 };
 
-[[noreturn]] void fail(std::string what) { throw ParseError{std::move(what)}; }
+[[noreturn]] void fail(std::string what) {
+  throw ParseError{std::move(what)};
+}
 
 // std::byteswap is C++23.
 std::int32_t byteswap32(std::int32_t v) {
   const auto u = static_cast<std::uint32_t>(v);
-  return static_cast<std::int32_t>((u >> 24) | ((u >> 8) & 0xff00u) | ((u << 8) & 0xff0000u) | (u << 24));
+  return static_cast<std::int32_t>((u >> 24) | ((u >> 8) & 0xff00u) | ((u << 8) & 0xff0000u) |
+                                   (u << 24));
 }
 
 // ----------------------------------------------------------------------------- cursors
@@ -76,7 +79,8 @@ class Text {
       ++p_;
       ++line_;
     }
-    while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+    while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t'))
+      s.remove_suffix(1);
     return s;
   }
   bool at_end() {
@@ -95,30 +99,36 @@ class Text {
   template <class T>
   T number(const char* what) {
     const std::string_view t = token();
-    if (t.empty()) fail(where() + ": file ends where " + std::string(what) + " was expected (truncated?)");
+    if (t.empty())
+      fail(where() + ": file ends where " + std::string(what) + " was expected (truncated?)");
     T v{};
     const char* b = t.data();
     // from_chars rejects a leading '+', which some writers emit.
     if (t.size() > 1 && b[0] == '+') ++b;
     const auto r = std::from_chars(b, t.data() + t.size(), v);
     if (r.ec != std::errc() || r.ptr != t.data() + t.size())
-      fail(where() + ": expected " + std::string(what) + ", found '" + std::string(t.substr(0, 40)) + "'");
+      fail(where() + ": expected " + std::string(what) + ", found '" +
+           std::string(t.substr(0, 40)) + "'");
     if constexpr (std::is_floating_point_v<T>)
       if (!std::isfinite(v)) fail(where() + ": " + std::string(what) + " is not finite");
     return v;
   }
   std::int64_t integer(const char* what) { return number<std::int64_t>(what); }
   double real(const char* what) { return number<double>(what); }
-  std::int64_t count(const char* what, std::int64_t max = std::numeric_limits<std::int32_t>::max()) {
+  std::int64_t count(const char* what,
+                     std::int64_t max = std::numeric_limits<std::int32_t>::max()) {
     const std::int64_t n = integer(what);
-    if (n < 0 || n > max) fail(where() + ": " + std::string(what) + " " + std::to_string(n) + " is out of range");
+    if (n < 0 || n > max)
+      fail(where() + ": " + std::string(what) + " " + std::to_string(n) + " is out of range");
     return n;
   }
   void expect(std::string_view word) {
     const std::string_view t = token();
-    if (t != word)
-      fail(where() + ": expected '" + std::string(word) + "', found " +
-           (t.empty() ? std::string("the end of the file (truncated?)") : "'" + std::string(t.substr(0, 40)) + "'"));
+    if (t == word) return;
+    // Built with append: GCC 12 warns (-Wrestrict, a false positive) on "'" + string.
+    std::string found = "the end of the file (truncated?)";
+    if (!t.empty()) found = std::string(1, '\'').append(t.substr(0, 40)).append(1, '\'');
+    fail(where() + ": expected '" + std::string(word) + "', found " + found);
   }
 
  private:
@@ -146,8 +156,8 @@ class Bytes {
 
   void need(std::size_t n, const char* what) {
     if (left() < n)
-      fail(where() + ": file ends inside " + std::string(what) + " (" + std::to_string(n) + " bytes needed, " +
-           std::to_string(left()) + " left; truncated?)");
+      fail(where() + ": file ends inside " + std::string(what) + " (" + std::to_string(n) +
+           " bytes needed, " + std::to_string(left()) + " left; truncated?)");
   }
   template <class T>
   T get(const char* what) {
@@ -183,11 +193,13 @@ class NodeMap {
  public:
   void add(std::int64_t tag, NodeId index, const std::string& where) {
     if (tag < 1) fail(where + ": node tag " + std::to_string(tag) + " (tags start at 1)");
-    if (!map_.emplace(tag, index).second) fail(where + ": node tag " + std::to_string(tag) + " appears twice");
+    if (!map_.emplace(tag, index).second)
+      fail(where + ": node tag " + std::to_string(tag) + " appears twice");
   }
   NodeId at(std::int64_t tag, const std::string& where) const {
     auto it = map_.find(tag);
-    if (it == map_.end()) fail(where + ": element refers to node " + std::to_string(tag) + ", which is not defined");
+    if (it == map_.end())
+      fail(where + ": element refers to node " + std::to_string(tag) + ", which is not defined");
     return it->second;
   }
   void reserve(std::size_t n) { map_.reserve(n); }
@@ -198,26 +210,33 @@ class NodeMap {
 
 NodeId checked_index(std::int64_t one_based, std::size_t np, const std::string& where) {
   if (one_based < 1 || static_cast<std::size_t>(one_based) > np)
-    fail(where + ": vertex index " + std::to_string(one_based) + " is out of range 1.." + std::to_string(np));
+    fail(where + ": vertex index " + std::to_string(one_based) + " is out of range 1.." +
+         std::to_string(np));
   return static_cast<NodeId>(one_based - 1);
 }
 
 // A count read from a file sizes a reservation only up to a bound: a corrupt count must
 // give "file ends" at the data, not an allocation of gigabytes first.
-std::size_t bounded(std::int64_t n) { return static_cast<std::size_t>(std::clamp<std::int64_t>(n, 0, 1 << 20)); }
+std::size_t bounded(std::int64_t n) {
+  return static_cast<std::size_t>(std::clamp<std::int64_t>(n, 0, 1 << 20));
+}
 
-geom::Id entity_id(std::int64_t tag) { return tag >= 1 ? static_cast<geom::Id>(tag - 1) : 0; }
+geom::Id entity_id(std::int64_t tag) {
+  return tag >= 1 ? static_cast<geom::Id>(tag - 1) : 0;
+}
 
 // Classification from the elements (mesh_reader.h): vertices of point elements, nodes of
 // segments, then the face of the first triangle; unused points on face 0.
-void classify_from_elements(SurfaceMesh& m, const std::vector<std::pair<NodeId, geom::Id>>& point_elements) {
+void classify_from_elements(SurfaceMesh& m,
+                            const std::vector<std::pair<NodeId, geom::Id>>& point_elements) {
   const std::size_t np = m.points.size();
   m.point_dim.assign(np, 2);
   m.point_entity.assign(np, -1);
   m.point_t.assign(np, 0.0);
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
     for (NodeId v : m.triangles[t])
-      if (m.point_entity[static_cast<std::size_t>(v)] < 0) m.point_entity[static_cast<std::size_t>(v)] = m.triangle_face[t];
+      if (m.point_entity[static_cast<std::size_t>(v)] < 0)
+        m.point_entity[static_cast<std::size_t>(v)] = m.triangle_face[t];
   for (const auto& s : m.segments)
     for (NodeId v : {s.a, s.b}) {
       m.point_dim[static_cast<std::size_t>(v)] = 1;
@@ -233,20 +252,34 @@ void classify_from_elements(SurfaceMesh& m, const std::vector<std::pair<NodeId, 
 // Nodes per element of the MSH element types a surface-mesh file may hold; -1 unknown.
 int msh_nodes_of_type(std::int64_t type) {
   switch (type) {
-    case 1: return 2;    // line
-    case 2: return 3;    // triangle
-    case 3: return 4;    // quadrangle
-    case 4: return 4;    // tetrahedron
-    case 5: return 8;    // hexahedron
-    case 6: return 6;    // prism
-    case 7: return 5;    // pyramid
-    case 8: return 3;    // 3-node line
-    case 9: return 6;    // 6-node triangle
-    case 10: return 9;   // 9-node quadrangle
-    case 11: return 10;  // 10-node tetrahedron
-    case 15: return 1;   // point
-    case 16: return 8;   // 8-node quadrangle
-    default: return -1;
+    case 1:
+      return 2;  // line
+    case 2:
+      return 3;  // triangle
+    case 3:
+      return 4;  // quadrangle
+    case 4:
+      return 4;  // tetrahedron
+    case 5:
+      return 8;  // hexahedron
+    case 6:
+      return 6;  // prism
+    case 7:
+      return 5;  // pyramid
+    case 8:
+      return 3;  // 3-node line
+    case 9:
+      return 6;  // 6-node triangle
+    case 10:
+      return 9;  // 9-node quadrangle
+    case 11:
+      return 10;  // 10-node tetrahedron
+    case 15:
+      return 1;  // point
+    case 16:
+      return 8;  // 8-node quadrangle
+    default:
+      return -1;
   }
 }
 
@@ -277,7 +310,8 @@ struct ElementSink {
 void skip_msh_section(Text& t, std::string_view name) {
   const std::string end = "$End" + std::string(name.substr(1));
   while (true) {
-    if (t.pos() >= t.end()) fail(t.where() + ": file ends inside section " + std::string(name) + " (truncated?)");
+    if (t.pos() >= t.end())
+      fail(t.where() + ": file ends inside section " + std::string(name) + " (truncated?)");
     const std::string_view l = t.rest_of_line();
     if (l == end) return;
   }
@@ -290,7 +324,8 @@ void read_physical_names(Text& t, MeshReadResult& r) {
     p.dim = static_cast<int>(t.integer("a physical group dimension"));
     p.tag = static_cast<int>(t.integer("a physical group tag"));
     std::string_view name = t.rest_of_line();
-    if (name.size() >= 2 && name.front() == '"' && name.back() == '"') name = name.substr(1, name.size() - 2);
+    if (name.size() >= 2 && name.front() == '"' && name.back() == '"')
+      name = name.substr(1, name.size() - 2);
     p.name = std::string(name);
     r.physicals.push_back(std::move(p));
   }
@@ -306,7 +341,8 @@ void other_msh_section(Text& t, std::string_view sec, MeshReadResult& r, const c
     t.rest_of_line();
     skip_msh_section(t, sec);
   } else {
-    fail(t.where() + ": expected a section (" + known + "), found '" + std::string(sec.substr(0, 40)) + "'");
+    fail(t.where() + ": expected a section (" + known + "), found '" +
+         std::string(sec.substr(0, 40)) + "'");
   }
 }
 
@@ -368,12 +404,14 @@ class MshIn {
   std::int64_t z(const char* what) {
     if (!b_) return t_.count(what, std::numeric_limits<std::int64_t>::max());
     const std::uint64_t v = b_->get<std::uint64_t>(what);
-    if (v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) fail(where() + ": " + what + " out of range");
+    if (v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      fail(where() + ": " + what + " out of range");
     return static_cast<std::int64_t>(v);
   }
   std::int64_t count(const char* what) {
     const std::int64_t n = z(what);
-    if (n > std::numeric_limits<std::int32_t>::max()) fail(where() + ": " + std::string(what) + " " + std::to_string(n) + " is out of range");
+    if (n > std::numeric_limits<std::int32_t>::max())
+      fail(where() + ": " + std::string(what) + " " + std::to_string(n) + " is out of range");
     return n;
   }
   double d(const char* what) { return b_ ? b_->real(what) : t_.real(what); }
@@ -435,9 +473,11 @@ void read_msh41(Text& t, Bytes* bin, MeshReadResult& r) {
         const std::int64_t tag = in.i("a node block entity tag");
         const std::int64_t parametric = in.i("the parametric flag");
         const std::int64_t n = in.count("the number of nodes in the block");
-        if (dim < 0 || dim > 3) fail(in.where() + ": node block of dimension " + std::to_string(dim));
+        if (dim < 0 || dim > 3)
+          fail(in.where() + ": node block of dimension " + std::to_string(dim));
         if (static_cast<std::int64_t>(m.points.size()) + n > total)
-          fail(in.where() + ": the node blocks hold more nodes than the " + std::to_string(total) + " announced");
+          fail(in.where() + ": the node blocks hold more nodes than the " + std::to_string(total) +
+               " announced");
         const std::size_t first = m.points.size();
         for (std::int64_t k = 0; k < n; ++k) {
           const std::int64_t nt = in.z("a node tag");
@@ -445,7 +485,9 @@ void read_msh41(Text& t, Bytes* bin, MeshReadResult& r) {
         }
         for (std::int64_t k = 0; k < n; ++k) {
           const double x = in.d("x"), y = in.d("y"), z = in.d("z");
-          if (parametric) for (std::int64_t u = 0; u < std::min<std::int64_t>(dim, 2); ++u) in.d("a parametric coordinate");
+          if (parametric)
+            for (std::int64_t u = 0; u < std::min<std::int64_t>(dim, 2); ++u)
+              in.d("a parametric coordinate");
           m.points.emplace_back(x, y, z);
           // A surface mesh has no volume nodes; a volume mesh's are put on face 0.
           m.point_dim.push_back(static_cast<std::int8_t>(std::min<std::int64_t>(dim, 2)));
@@ -454,7 +496,8 @@ void read_msh41(Text& t, Bytes* bin, MeshReadResult& r) {
         }
       }
       if (static_cast<std::int64_t>(m.points.size()) != total)
-        fail(in.where() + ": " + std::to_string(total) + " nodes announced, " + std::to_string(m.points.size()) + " found");
+        fail(in.where() + ": " + std::to_string(total) + " nodes announced, " +
+             std::to_string(m.points.size()) + " found");
       in.end_section("$EndNodes");
       have_nodes = true;
     } else if (sec == "$Elements") {
@@ -473,7 +516,9 @@ void read_msh41(Text& t, Bytes* bin, MeshReadResult& r) {
         const int nn = msh_nodes_of_type(type);
         if (nn < 0) fail(in.where() + ": unknown element type " + std::to_string(type));
         seen += n;
-        if (seen > total) fail(in.where() + ": the element blocks hold more elements than the " + std::to_string(total) + " announced");
+        if (seen > total)
+          fail(in.where() + ": the element blocks hold more elements than the " +
+               std::to_string(total) + " announced");
         NodeId nd[10];
         for (std::int64_t k = 0; k < n; ++k) {
           in.z("an element tag");
@@ -481,7 +526,9 @@ void read_msh41(Text& t, Bytes* bin, MeshReadResult& r) {
           sink.element(type, nd, entity_id(tag));
         }
       }
-      if (seen != total) fail(in.where() + ": " + std::to_string(total) + " elements announced, " + std::to_string(seen) + " found");
+      if (seen != total)
+        fail(in.where() + ": " + std::to_string(total) + " elements announced, " +
+             std::to_string(seen) + " found");
       in.end_section("$EndElements");
       have_elements = true;
     } else {
@@ -519,7 +566,9 @@ void read_msh(const std::string& data, MeshReadResult& r) {
   }
   t.expect("$EndMeshFormat");
   if (version != "4.1") {
-    if (r.binary) fail("binary MSH " + std::string(version) + " is not read (ASCII 2.2 and 4.1 ASCII/binary are)");
+    if (r.binary)
+      fail("binary MSH " + std::string(version) +
+           " is not read (ASCII 2.2 and 4.1 ASCII/binary are)");
     r.format = MeshFormat::Msh22;
     read_msh22(t, r);
     return;
@@ -567,10 +616,10 @@ void read_medit_ascii(const std::string& data, MeshReadResult& r) {
     } else {
       // Element keywords: nodes per record (+1 reference); a few vertex/entity lists.
       static const std::map<std::string_view, std::pair<int, int>> kElems = {
-          {"Edges", {2, 1}},         {"Triangles", {3, 2}},     {"Quadrilaterals", {4, 3}},
-          {"Tetrahedra", {4, 4}},    {"Hexahedra", {8, 5}},     {"Prisms", {6, 6}},
-          {"Pyramids", {5, 7}},      {"Corners", {1, 0}},       {"RequiredVertices", {1, 0}},
-          {"Ridges", {1, 0}},        {"RequiredEdges", {1, 0}}, {"RequiredTriangles", {1, 0}}};
+          {"Edges", {2, 1}},      {"Triangles", {3, 2}},     {"Quadrilaterals", {4, 3}},
+          {"Tetrahedra", {4, 4}}, {"Hexahedra", {8, 5}},     {"Prisms", {6, 6}},
+          {"Pyramids", {5, 7}},   {"Corners", {1, 0}},       {"RequiredVertices", {1, 0}},
+          {"Ridges", {1, 0}},     {"RequiredEdges", {1, 0}}, {"RequiredTriangles", {1, 0}}};
       auto it = kElems.find(kw);
       if (it == kElems.end())
         fail(t.where() + ": unknown Medit keyword '" + std::string(kw.substr(0, 40)) + "'");
@@ -579,12 +628,16 @@ void read_medit_ascii(const std::string& data, MeshReadResult& r) {
       const std::int64_t n = t.count("an element count");
       for (std::int64_t i = 0; i < n; ++i) {
         NodeId nd[8];
-        for (int k = 0; k < nn; ++k) nd[k] = checked_index(t.integer("a vertex index"), m.points.size(), t.where());
+        for (int k = 0; k < nn; ++k)
+          nd[k] = checked_index(t.integer("a vertex index"), m.points.size(), t.where());
         if (!has_ref) continue;
         const std::int64_t ref = t.integer("an element reference");
-        if (type == 1) sink.element(1, nd, entity_id(ref));
-        else if (type == 2) sink.element(2, nd, entity_id(ref));
-        else ++r.skipped_elements;
+        if (type == 1)
+          sink.element(1, nd, entity_id(ref));
+        else if (type == 2)
+          sink.element(2, nd, entity_id(ref));
+        else
+          ++r.skipped_elements;
       }
     }
   }
@@ -601,18 +654,22 @@ void read_meshb(const std::string& data, MeshReadResult& r) {
   const std::int32_t code = probe.get<std::int32_t>("the byte-order code");
   bool big = false;
   if (code != 1) {
-    if (byteswap32(code) != 1) fail("byte offset 0: not a binary Medit file (code " + std::to_string(code) + ", expected 1)");
+    if (byteswap32(code) != 1)
+      fail("byte offset 0: not a binary Medit file (code " + std::to_string(code) +
+           ", expected 1)");
     big = true;
   }
   if (std::endian::native == std::endian::big) big = !big;
   Bytes b(base, probe.pos(), base + data.size(), big);
   const std::int32_t version = b.get<std::int32_t>("the version");
-  if (version < 1 || version > 4) fail("byte offset 4: unknown libMeshb version " + std::to_string(version));
+  if (version < 1 || version > 4)
+    fail("byte offset 4: unknown libMeshb version " + std::to_string(version));
   auto integer = [&](const char* what) -> std::int64_t {
     return version == 4 ? b.get<std::int64_t>(what) : b.get<std::int32_t>(what);
   };
   auto position = [&]() -> std::int64_t {
-    return version >= 3 ? b.get<std::int64_t>("a keyword position") : b.get<std::int32_t>("a keyword position");
+    return version >= 3 ? b.get<std::int64_t>("a keyword position")
+                        : b.get<std::int32_t>("a keyword position");
   };
   auto real = [&](const char* what) -> double {
     if (version == 1) {
@@ -633,7 +690,8 @@ void read_meshb(const std::string& data, MeshReadResult& r) {
     }
     auto count = [&](const char* what) {
       const std::int64_t n = integer(what);
-      if (n < 0 || n > std::numeric_limits<std::int32_t>::max()) fail(b.where() + ": " + std::string(what) + " out of range");
+      if (n < 0 || n > std::numeric_limits<std::int32_t>::max())
+        fail(b.where() + ": " + std::string(what) + " out of range");
       return n;
     };
     if (kw == 3) {
@@ -653,13 +711,16 @@ void read_meshb(const std::string& data, MeshReadResult& r) {
       const std::int64_t n = count("an element count");
       for (std::int64_t i = 0; i < n; ++i) {
         NodeId nd[3];
-        for (int k = 0; k < nn; ++k) nd[k] = checked_index(integer("a vertex index"), m.points.size(), b.where());
+        for (int k = 0; k < nn; ++k)
+          nd[k] = checked_index(integer("a vertex index"), m.points.size(), b.where());
         sink.element(kw == 5 ? 1 : 2, nd, entity_id(integer("an element reference")));
       }
     } else {
       // Any other keyword is skipped through its next-keyword position.
-      if (next <= static_cast<std::int64_t>(b.offset()) || next > static_cast<std::int64_t>(data.size()))
-        fail(b.where() + ": keyword " + std::to_string(kw) + " has a bad next-keyword position " + std::to_string(next));
+      if (next <= static_cast<std::int64_t>(b.offset()) ||
+          next > static_cast<std::int64_t>(data.size()))
+        fail(b.where() + ": keyword " + std::to_string(kw) + " has a bad next-keyword position " +
+             std::to_string(next));
       b.seek(base + next);
     }
   }
@@ -676,7 +737,8 @@ struct PointMerger {
   SurfaceMesh& m;
   std::map<std::array<double, 3>, NodeId> index;
   NodeId add(double x, double y, double z) {
-    auto [it, fresh] = index.emplace(std::array<double, 3>{x, y, z}, static_cast<NodeId>(m.points.size()));
+    auto [it, fresh] =
+        index.emplace(std::array<double, 3>{x, y, z}, static_cast<NodeId>(m.points.size()));
     if (fresh) m.points.emplace_back(x, y, z);
     return it->second;
   }
@@ -696,7 +758,8 @@ void read_stl(const std::string& data, MeshReadResult& r) {
   }
   const bool starts_solid = data.compare(0, 5, "solid") == 0;
   if (!binary && !starts_solid) {
-    if (data.size() < 84) fail("byte offset 0: too short for binary STL (84-byte header) and not ASCII STL");
+    if (data.size() < 84)
+      fail("byte offset 0: too short for binary STL (84-byte header) and not ASCII STL");
     fail("byte offset 80: binary STL announces " + std::to_string(n) + " triangles (" +
          std::to_string(84 + 50 * static_cast<std::uint64_t>(n)) + " bytes) but the file has " +
          std::to_string(data.size()) + " bytes (truncated?)");
@@ -709,7 +772,8 @@ void read_stl(const std::string& data, MeshReadResult& r) {
       NodeId v[3];
       for (int k = 0; k < 3; ++k) {
         const float x = b.get<float>("x"), y = b.get<float>("y"), z = b.get<float>("z");
-        if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) fail(b.where() + ": a non-finite coordinate");
+        if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+          fail(b.where() + ": a non-finite coordinate");
         v[k] = merge.add(x, y, z);
       }
       b.skip(2, "the attribute byte count");
@@ -731,7 +795,8 @@ void read_stl(const std::string& data, MeshReadResult& r) {
         }
         if (w != "facet")
           fail(t.where() + ": expected 'facet' or 'endsolid', found " +
-               (w.empty() ? std::string("the end of the file (truncated?)") : "'" + std::string(w.substr(0, 40)) + "'"));
+               (w.empty() ? std::string("the end of the file (truncated?)")
+                          : "'" + std::string(w.substr(0, 40)) + "'"));
         t.expect("normal");
         for (int k = 0; k < 3; ++k) t.real("a normal component");
         t.expect("outer");
@@ -774,8 +839,10 @@ void read_obj(const std::string& data, MeshReadResult& r) {
         const std::string_view tok = lt.token();
         double v = 0;
         const auto res = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-        if (tok.empty() || res.ec != std::errc() || res.ptr != tok.data() + tok.size() || !std::isfinite(v))
-          fail(where + ": expected a vertex coordinate, found '" + std::string(tok.substr(0, 40)) + "'");
+        if (tok.empty() || res.ec != std::errc() || res.ptr != tok.data() + tok.size() ||
+            !std::isfinite(v))
+          fail(where + ": expected a vertex coordinate, found '" + std::string(tok.substr(0, 40)) +
+               "'");
         p[k] = v;
       }
       m.points.push_back(p);
@@ -807,7 +874,8 @@ void read_obj(const std::string& data, MeshReadResult& r) {
       }
       if (id < 0) {
         auto it = groups.find(name);
-        if (it == groups.end()) it = groups.emplace(std::string(name), static_cast<geom::Id>(groups.size())).first;
+        if (it == groups.end())
+          it = groups.emplace(std::string(name), static_cast<geom::Id>(groups.size())).first;
         id = it->second;
       }
       face = id;
@@ -851,14 +919,22 @@ struct PlyElement {
 double ply_value(PlyType ty, Text* t, Bytes* b) {
   if (t) return t->real("a PLY value");
   switch (ty) {
-    case PlyType::I8: return b->get<std::int8_t>("a PLY value");
-    case PlyType::U8: return b->get<std::uint8_t>("a PLY value");
-    case PlyType::I16: return b->get<std::int16_t>("a PLY value");
-    case PlyType::U16: return b->get<std::uint16_t>("a PLY value");
-    case PlyType::I32: return b->get<std::int32_t>("a PLY value");
-    case PlyType::U32: return b->get<std::uint32_t>("a PLY value");
-    case PlyType::F32: return b->get<float>("a PLY value");
-    case PlyType::F64: return b->get<double>("a PLY value");
+    case PlyType::I8:
+      return b->get<std::int8_t>("a PLY value");
+    case PlyType::U8:
+      return b->get<std::uint8_t>("a PLY value");
+    case PlyType::I16:
+      return b->get<std::int16_t>("a PLY value");
+    case PlyType::U16:
+      return b->get<std::uint16_t>("a PLY value");
+    case PlyType::I32:
+      return b->get<std::int32_t>("a PLY value");
+    case PlyType::U32:
+      return b->get<std::uint32_t>("a PLY value");
+    case PlyType::F32:
+      return b->get<float>("a PLY value");
+    case PlyType::F64:
+      return b->get<double>("a PLY value");
   }
   return 0;
 }
@@ -928,7 +1004,8 @@ void read_ply(const std::string& data, MeshReadResult& r) {
             const double v = ply_value(pr.type, tp, bp);
             if (is_face && (pr.name == "vertex_indices" || pr.name == "vertex_index")) {
               if (!(v >= 0 && v < static_cast<double>(m.points.size())))
-                fail(where() + ": vertex index " + std::to_string(static_cast<long long>(v)) + " out of range");
+                fail(where() + ": vertex index " + std::to_string(static_cast<long long>(v)) +
+                     " out of range");
               poly.push_back(static_cast<NodeId>(v));
             }
           }
@@ -963,20 +1040,25 @@ void read_ply(const std::string& data, MeshReadResult& r) {
 
 void read_drc(const std::string& data, MeshReadResult& r) {
   bool face_ids = false;
-  if (std::string why = detail::decode_drc(data.data(), data.size(), r.mesh, face_ids); !why.empty()) fail(why);
+  if (std::string why = detail::decode_drc(data.data(), data.size(), r.mesh, face_ids);
+      !why.empty())
+    fail(why);
   r.binary = true;
   r.has_face_ids = face_ids;
   classify_from_elements(r.mesh, {});
 }
 
 bool readable(MeshFormat f) {
-  return f == MeshFormat::Msh41 || f == MeshFormat::Msh22 || f == MeshFormat::Medit || f == MeshFormat::Meshb ||
-         f == MeshFormat::Stl || f == MeshFormat::Obj || f == MeshFormat::Ply || f == MeshFormat::Drc;
+  return f == MeshFormat::Msh41 || f == MeshFormat::Msh22 || f == MeshFormat::Medit ||
+         f == MeshFormat::Meshb || f == MeshFormat::Stl || f == MeshFormat::Obj ||
+         f == MeshFormat::Ply || f == MeshFormat::Drc;
 }
 
 }  // namespace
 
-std::string readable_mesh_extensions() { return ".msh, .mesh, .meshb, .stl, .obj, .ply, .drc"; }
+std::string readable_mesh_extensions() {
+  return ".msh, .mesh, .meshb, .stl, .obj, .ply, .drc";
+}
 
 MeshReadResult read_mesh(const std::string& path, const MeshReadOptions& opts) {
   MeshReadResult r;
@@ -1028,14 +1110,29 @@ MeshReadResult read_mesh_data(const std::string& data, MeshFormat format, const 
   try {
     switch (format) {
       case MeshFormat::Msh41:
-      case MeshFormat::Msh22: read_msh(data, r); break;
-      case MeshFormat::Medit: read_medit_ascii(data, r); break;
-      case MeshFormat::Meshb: read_meshb(data, r); break;
-      case MeshFormat::Stl: read_stl(data, r); break;
-      case MeshFormat::Obj: read_obj(data, r); break;
-      case MeshFormat::Ply: read_ply(data, r); break;
-      case MeshFormat::Drc: read_drc(data, r); break;
-      default: break;
+      case MeshFormat::Msh22:
+        read_msh(data, r);
+        break;
+      case MeshFormat::Medit:
+        read_medit_ascii(data, r);
+        break;
+      case MeshFormat::Meshb:
+        read_meshb(data, r);
+        break;
+      case MeshFormat::Stl:
+        read_stl(data, r);
+        break;
+      case MeshFormat::Obj:
+        read_obj(data, r);
+        break;
+      case MeshFormat::Ply:
+        read_ply(data, r);
+        break;
+      case MeshFormat::Drc:
+        read_drc(data, r);
+        break;
+      default:
+        break;
     }
   } catch (const ParseError& e) {
     r = MeshReadResult{};
@@ -1052,7 +1149,8 @@ MeshReadResult read_mesh_data(const std::string& data, MeshFormat format, const 
     return r;
   }
   if (r.skipped_elements > 0)
-    r.warnings.push_back(std::to_string(r.skipped_elements) + " elements other than points, lines and triangles were skipped");
+    r.warnings.push_back(std::to_string(r.skipped_elements) +
+                         " elements other than points, lines and triangles were skipped");
   r.ok = true;
   return r;
 }

@@ -15,8 +15,6 @@
 // per number is several times slower than this for the same bytes.
 #include "uvmesh/io/mesh_writer.h"
 
-#include "draco_io.h"
-
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -39,6 +37,8 @@
 #include <system_error>
 #include <tuple>
 #include <vector>
+
+#include "draco_io.h"
 
 namespace uvmesh::io {
 
@@ -170,18 +170,24 @@ class Record {
   Record(Sink& out, bool binary) : out_(out), binary_(binary) {}
   bool binary() const { return binary_; }
   Record& i(std::int64_t v) {  // a C int (tags, dims, types)
-    if (binary_) put_le(out_, static_cast<std::int32_t>(v));
-    else text(v);
+    if (binary_)
+      put_le(out_, static_cast<std::int32_t>(v));
+    else
+      text(v);
     return *this;
   }
   Record& z(std::int64_t v) {  // a size_t (counts, node and element tags)
-    if (binary_) put_le(out_, static_cast<std::uint64_t>(v));
-    else text(v);
+    if (binary_)
+      put_le(out_, static_cast<std::uint64_t>(v));
+    else
+      text(v);
     return *this;
   }
   Record& d(double v) {
-    if (binary_) put_le(out_, v);
-    else text(v);
+    if (binary_)
+      put_le(out_, v);
+    else
+      text(v);
     return *this;
   }
   Record& xyz(const geom::Vec3& p) { return d(p.x).d(p.y).d(p.z); }
@@ -217,8 +223,8 @@ class TempFile {
   std::string open(const std::string& dest) {
     static std::atomic<unsigned> counter{0};
     for (int attempt = 0; attempt < 100; ++attempt) {
-      std::string tmp = dest + ".tmp-" + std::to_string(::getpid()) + "-" +
-                        std::to_string(counter.fetch_add(1));
+      std::string tmp =
+          dest + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
       // 0666: the umask applies as for any new file.
       const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
       if (fd >= 0) {
@@ -226,7 +232,8 @@ class TempFile {
         tmp_ = std::move(tmp);
         return "";
       }
-      if (errno != EEXIST) return std::string("cannot create a file there: ") + std::strerror(errno);
+      if (errno != EEXIST)
+        return std::string("cannot create a file there: ") + std::strerror(errno);
     }
     return "cannot find a free temporary file name beside it";
   }
@@ -305,7 +312,9 @@ std::string validate(const SurfaceMesh& m, const geom::Model* model, Counts& c) 
     c.faces = model->faces.size();
   }
   std::size_t* count_of[3] = {&c.vertices, &c.edges, &c.faces};
-  auto note = [](std::size_t& n, geom::Id id) { n = std::max(n, static_cast<std::size_t>(id) + 1); };
+  auto note = [](std::size_t& n, geom::Id id) {
+    n = std::max(n, static_cast<std::size_t>(id) + 1);
+  };
   for (std::size_t i = 0; i < np; ++i) {
     const geom::Vec3& p = m.points[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
@@ -328,7 +337,8 @@ std::string validate(const SurfaceMesh& m, const geom::Model* model, Counts& c) 
   for (std::size_t s = 0; s < m.segments.size(); ++s) {
     const auto& seg = m.segments[s];
     if (!node_ok(seg.a) || !node_ok(seg.b) || seg.edge < 0)
-      return "invalid mesh: segment " + std::to_string(s) + " has a node index out of range or no edge";
+      return "invalid mesh: segment " + std::to_string(s) +
+             " has a node index out of range or no edge";
     note(c.edges, seg.edge);
   }
   if (model && (c.vertices > model->vertices.size() || c.edges > model->edges.size() ||
@@ -351,11 +361,11 @@ std::string validate(const SurfaceMesh& m, const geom::Model* model, Counts& c) 
 // blocks have physical tags and others not. So with named faces, the unnamed ones form
 // "unnamed_faces", and the model edges and vertices one group each.
 struct Physicals {
-  std::vector<std::int64_t> face_group;  ///< per face: its surface group tag, 0 for none
-  std::vector<std::string> face_names;   ///< surface group tag - 1 -> name
+  std::vector<std::int64_t> face_group;           ///< per face: its surface group tag, 0 for none
+  std::vector<std::string> face_names;            ///< surface group tag - 1 -> name
   std::int64_t curve_group = 0, point_group = 0;  ///< the catch-all tags (0: none)
-  bool solids = false;                   ///< one volume group per written volume
-  std::vector<std::string> solid_names;  ///< per solid id
+  bool solids = false;                            ///< one volume group per written volume
+  std::vector<std::string> solid_names;           ///< per solid id
 };
 
 Physicals physicals(const geom::Model* model, const Counts& c, bool on) {
@@ -395,14 +405,16 @@ std::string quoted_name(const std::string& name) {
 
 // $PhysicalNames (ASCII in binary files too) for the named surface groups and the volume
 // groups of the written volumes (volume_tags: the solid tags written, in order).
-void write_physical_names(Sink& out, const Physicals& p, const std::vector<std::int64_t>& volume_tags) {
+void write_physical_names(Sink& out, const Physicals& p,
+                          const std::vector<std::int64_t>& volume_tags) {
   std::vector<std::tuple<int, std::int64_t, std::string>> groups;
   if (p.point_group > 0) groups.emplace_back(0, p.point_group, "model_vertices");
   if (p.curve_group > 0) groups.emplace_back(1, p.curve_group, "model_edges");
   for (std::size_t g = 0; g < p.face_names.size(); ++g)
     groups.emplace_back(2, static_cast<std::int64_t>(g) + 1, p.face_names[g]);
   if (p.solids)
-    for (std::int64_t t : volume_tags) groups.emplace_back(3, t, p.solid_names[static_cast<std::size_t>(t - 1)]);
+    for (std::int64_t t : volume_tags)
+      groups.emplace_back(3, t, p.solid_names[static_cast<std::size_t>(t - 1)]);
   if (groups.empty()) return;
   out.put("$PhysicalNames\n");
   out.num(groups.size());
@@ -426,19 +438,22 @@ struct NodeGroups {
   std::size_t key(int dim, std::size_t id) const { return base[dim] + id; }
 };
 
-void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, const Counts& c, const Physicals& phys,
-                 bool binary) {
+void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, const Counts& c,
+                 const Physicals& phys, bool binary) {
   const std::size_t np = m.points.size();
   NodeGroups ng;
   ng.base[0] = 0;
   ng.base[1] = c.vertices;
   ng.base[2] = c.vertices + c.edges;
-  ng.b = bucket(np, c.vertices + c.edges + c.faces,
-                [&](std::size_t i) { return ng.key(m.point_dim[i], static_cast<std::size_t>(m.point_entity[i])); });
-  const Buckets segs = bucket(m.segments.size(), c.edges,
-                              [&](std::size_t s) { return static_cast<std::size_t>(m.segments[s].edge); });
-  const Buckets tris = bucket(m.triangles.size(), c.faces,
-                              [&](std::size_t t) { return static_cast<std::size_t>(m.triangle_face[t]); });
+  ng.b = bucket(np, c.vertices + c.edges + c.faces, [&](std::size_t i) {
+    return ng.key(m.point_dim[i], static_cast<std::size_t>(m.point_entity[i]));
+  });
+  const Buckets segs = bucket(m.segments.size(), c.edges, [&](std::size_t s) {
+    return static_cast<std::size_t>(m.segments[s].edge);
+  });
+  const Buckets tris = bucket(m.triangles.size(), c.faces, [&](std::size_t t) {
+    return static_cast<std::size_t>(m.triangle_face[t]);
+  });
 
   // An entity is written when it carries nodes or elements, so that every tag the file
   // mentions (bounding entities included) is defined in it.
@@ -450,8 +465,10 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
   // give boxes cheaply): an entity's own nodes plus the nodes of its elements.
   std::vector<geom::Box3> curve_box(c.edges), surface_box(c.faces);
   for (std::size_t i = 0; i < np; ++i) {
-    if (m.point_dim[i] == 1) curve_box[static_cast<std::size_t>(m.point_entity[i])].add(m.points[i]);
-    if (m.point_dim[i] == 2) surface_box[static_cast<std::size_t>(m.point_entity[i])].add(m.points[i]);
+    if (m.point_dim[i] == 1)
+      curve_box[static_cast<std::size_t>(m.point_entity[i])].add(m.points[i]);
+    if (m.point_dim[i] == 2)
+      surface_box[static_cast<std::size_t>(m.point_entity[i])].add(m.points[i]);
   }
   for (const auto& s : m.segments) {
     curve_box[static_cast<std::size_t>(s.edge)].add(m.points[static_cast<std::size_t>(s.a)]);
@@ -459,7 +476,8 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
   }
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
     for (NodeId v : m.triangles[t])
-      surface_box[static_cast<std::size_t>(m.triangle_face[t])].add(m.points[static_cast<std::size_t>(v)]);
+      surface_box[static_cast<std::size_t>(m.triangle_face[t])].add(
+          m.points[static_cast<std::size_t>(v)]);
 
   // Bounding points of each curve, begin vertex +tag and end vertex -tag (Gmsh's own
   // convention in its MSH4 entity writer; a closed curve lists its vertex twice). With a
@@ -469,7 +487,8 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
   for (std::size_t e = 0; e < c.edges; ++e) {
     if (!has_curve(e)) continue;
     auto add = [&](geom::Id v, int sign) {
-      if (v >= 0 && static_cast<std::size_t>(v) < c.vertices && has_point(static_cast<std::size_t>(v)))
+      if (v >= 0 && static_cast<std::size_t>(v) < c.vertices &&
+          has_point(static_cast<std::size_t>(v)))
         curve_points[e].push_back(sign * one_based(v));
     };
     if (model) {
@@ -524,7 +543,9 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
       for (geom::Id sh : model->solids[s].shells) {
         if (sh < 0 || static_cast<std::size_t>(sh) >= model->shells.size()) continue;
         for (geom::Id f : model->shells[static_cast<std::size_t>(sh)].faces) {
-          if (f < 0 || static_cast<std::size_t>(f) >= c.faces || !has_surface(static_cast<std::size_t>(f))) continue;
+          if (f < 0 || static_cast<std::size_t>(f) >= c.faces ||
+              !has_surface(static_cast<std::size_t>(f)))
+            continue;
           vol.surfaces.push_back(one_based(f));
           vol.box.add(surface_box[static_cast<std::size_t>(f)]);
         }
@@ -571,8 +592,11 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
   for (std::size_t e = 0; e < c.edges; ++e)
     if (has_curve(e)) entity(one_based(e), curve_box[e], phys.curve_group, curve_points[e]);
   for (std::size_t f = 0; f < c.faces; ++f)
-    if (has_surface(f)) entity(one_based(f), surface_box[f], phys.face_group.empty() ? 0 : phys.face_group[f], surface_curves[f]);
-  for (const Volume& vol : volumes) entity(vol.tag, vol.box, phys.solids ? vol.tag : 0, vol.surfaces);
+    if (has_surface(f))
+      entity(one_based(f), surface_box[f], phys.face_group.empty() ? 0 : phys.face_group[f],
+             surface_curves[f]);
+  for (const Volume& vol : volumes)
+    entity(vol.tag, vol.box, phys.solids ? vol.tag : 0, vol.surfaces);
   if (binary) out.put('\n');
   out.put("$EndEntities\n");
 
@@ -623,7 +647,8 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
     }
   };
   blocks(0, 15, ng.b, ng.base[0], c.vertices, [&](std::size_t i) { r.z(one_based(i)); });
-  blocks(1, 1, segs, 0, c.edges, [&](std::size_t s) { r.z(one_based(m.segments[s].a)).z(one_based(m.segments[s].b)); });
+  blocks(1, 1, segs, 0, c.edges,
+         [&](std::size_t s) { r.z(one_based(m.segments[s].a)).z(one_based(m.segments[s].b)); });
   blocks(2, 2, tris, 0, c.faces, [&](std::size_t t) {
     for (NodeId v : m.triangles[t]) r.z(one_based(v));
   });
@@ -656,14 +681,15 @@ void write_msh22(Sink& out, const SurfaceMesh& m, Physicals phys) {
   out.put('\n');
   std::int64_t tag = 1;
   for (std::size_t i = 0; i < m.points.size(); ++i)
-    if (m.point_dim[i] == 0) out.line({tag++, 15, 2, phys.point_group, one_based(m.point_entity[i]), one_based(i)});
+    if (m.point_dim[i] == 0)
+      out.line({tag++, 15, 2, phys.point_group, one_based(m.point_entity[i]), one_based(i)});
   for (const auto& sg : m.segments)
     out.line({tag++, 1, 2, phys.curve_group, one_based(sg.edge), one_based(sg.a), one_based(sg.b)});
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
     const auto f = static_cast<std::size_t>(m.triangle_face[t]);
     const auto& tri = m.triangles[t];
-    out.line({tag++, 2, 2, phys.face_group.empty() ? 0 : phys.face_group[f], one_based(f), one_based(tri[0]),
-              one_based(tri[1]), one_based(tri[2])});
+    out.line({tag++, 2, 2, phys.face_group.empty() ? 0 : phys.face_group[f], one_based(f),
+              one_based(tri[0]), one_based(tri[1]), one_based(tri[2])});
   }
   out.put("$EndElements\n");
 }
@@ -693,7 +719,8 @@ void write_medit(Sink& out, const SurfaceMesh& m) {
     out.put('\n');
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       const auto& tri = m.triangles[t];
-      out.line({one_based(tri[0]), one_based(tri[1]), one_based(tri[2]), one_based(m.triangle_face[t])});
+      out.line(
+          {one_based(tri[0]), one_based(tri[1]), one_based(tri[2]), one_based(m.triangle_face[t])});
     }
   }
   out.put("\nEnd\n");
@@ -736,7 +763,8 @@ void write_meshb(Sink& out, const SurfaceMesh& m) {
     put_le(out, static_cast<std::int32_t>(m.triangles.size()));
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       const auto& tri = m.triangles[t];
-      for (std::int64_t v : {one_based(tri[0]), one_based(tri[1]), one_based(tri[2]), one_based(m.triangle_face[t])})
+      for (std::int64_t v :
+           {one_based(tri[0]), one_based(tri[1]), one_based(tri[2]), one_based(m.triangle_face[t])})
         put_le(out, static_cast<std::int32_t>(v));
     }
   }
@@ -750,7 +778,8 @@ void write_meshb(Sink& out, const SurfaceMesh& m) {
 // each boundary triangle), then zero holes and zero regions. A .poly facet is a list of
 // polygons; here each is one triangle.
 void write_tetgen(Sink& out, const SurfaceMesh& m, bool smesh) {
-  out.put(smesh ? "# uvmesh surface mesh (TetGen .smesh)\n" : "# uvmesh surface mesh (TetGen .poly)\n");
+  out.put(smesh ? "# uvmesh surface mesh (TetGen .smesh)\n"
+                : "# uvmesh surface mesh (TetGen .poly)\n");
   out.line({static_cast<std::int64_t>(m.points.size()), 3, 0, 0});
   for (std::size_t i = 0; i < m.points.size(); ++i) {
     out.num(one_based(i));
@@ -785,7 +814,7 @@ void write_ply(Sink& out, const SurfaceMesh& m, bool binary) {
   out.put("\nproperty double x\nproperty double y\nproperty double z\nelement face ");
   out.num(m.triangles.size());
   out.put(binary ? "\nproperty list uchar int vertex_indices\nend_header\n"
-                : "\nproperty list uchar int vertex_indices\nproperty int face_id\nend_header\n");
+                 : "\nproperty list uchar int vertex_indices\nproperty int face_id\nend_header\n");
   for (const geom::Vec3& p : m.points) {
     if (binary) {
       put_le(out, p.x);
@@ -867,8 +896,9 @@ void write_obj(Sink& out, const SurfaceMesh& m, const Counts& c) {
     out.xyz(p);
     out.put('\n');
   }
-  const Buckets tris = bucket(m.triangles.size(), c.faces,
-                              [&](std::size_t t) { return static_cast<std::size_t>(m.triangle_face[t]); });
+  const Buckets tris = bucket(m.triangles.size(), c.faces, [&](std::size_t t) {
+    return static_cast<std::size_t>(m.triangle_face[t]);
+  });
   for (std::size_t f = 0; f < c.faces; ++f) {
     if (tris.size(f) == 0) continue;
     out.put("g face_");
@@ -958,11 +988,12 @@ class Base64 {
 
  private:
   void emit(int n) {
-    static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    static constexpr char kAlphabet[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     for (int i = n; i < 3; ++i) acc_[i] = 0;
     const unsigned v = (unsigned{acc_[0]} << 16) | (unsigned{acc_[1]} << 8) | acc_[2];
-    char q[4] = {kAlphabet[(v >> 18) & 63], kAlphabet[(v >> 12) & 63], n > 1 ? kAlphabet[(v >> 6) & 63] : '=',
-                 n > 2 ? kAlphabet[v & 63] : '='};
+    char q[4] = {kAlphabet[(v >> 18) & 63], kAlphabet[(v >> 12) & 63],
+                 n > 1 ? kAlphabet[(v >> 6) & 63] : '=', n > 2 ? kAlphabet[v & 63] : '='};
     out_.raw(q, 4);
     k_ = 0;
   }
@@ -973,14 +1004,17 @@ class Base64 {
 
 void write_vtu(Sink& out, const SurfaceMesh& m, bool binary) {
   const std::size_t np = m.points.size(), nt = m.triangles.size();
-  out.put("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt32\">\n<UnstructuredGrid>\n<Piece NumberOfPoints=\"");
+  out.put(
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+      "byte_order=\"LittleEndian\" header_type=\"UInt32\">\n<UnstructuredGrid>\n<Piece "
+      "NumberOfPoints=\"");
   out.num(np);
   out.put("\" NumberOfCells=\"");
   out.num(nt);
   out.put("\">\n");
   // One array: n values produced by value(i, sink) in ASCII or by value(i, base64).
-  auto array = [&](const char* type, const char* name, int components, std::size_t n, std::size_t value_bytes,
-                   auto ascii_value, auto binary_value) {
+  auto array = [&](const char* type, const char* name, int components, std::size_t n,
+                   std::size_t value_bytes, auto ascii_value, auto binary_value) {
     out.put("<DataArray type=\"");
     out.put(type);
     out.put("\" Name=\"");
@@ -1000,22 +1034,39 @@ void write_vtu(Sink& out, const SurfaceMesh& m, bool binary) {
     out.put("</DataArray>\n");
   };
   out.put("<Points>\n");
-  array("Float64", "Points", 3, np, 24,
-        [&](std::size_t i) { out.xyz(m.points[i]); out.put('\n'); },
-        [&](std::size_t i, Base64& b) { b.le(m.points[i].x); b.le(m.points[i].y); b.le(m.points[i].z); });
+  array(
+      "Float64", "Points", 3, np, 24,
+      [&](std::size_t i) {
+        out.xyz(m.points[i]);
+        out.put('\n');
+      },
+      [&](std::size_t i, Base64& b) {
+        b.le(m.points[i].x);
+        b.le(m.points[i].y);
+        b.le(m.points[i].z);
+      });
   out.put("</Points>\n<Cells>\n");
-  array("Int32", "connectivity", 1, nt, 12,
-        [&](std::size_t t) { const auto& tri = m.triangles[t]; out.line({tri[0], tri[1], tri[2]}); },
-        [&](std::size_t t, Base64& b) { for (NodeId v : m.triangles[t]) b.le(static_cast<std::int32_t>(v)); });
-  array("Int32", "offsets", 1, nt, 4,
-        [&](std::size_t t) { out.line({static_cast<std::int64_t>(3 * (t + 1))}); },
-        [&](std::size_t t, Base64& b) { b.le(static_cast<std::int32_t>(3 * (t + 1))); });
+  array(
+      "Int32", "connectivity", 1, nt, 12,
+      [&](std::size_t t) {
+        const auto& tri = m.triangles[t];
+        out.line({tri[0], tri[1], tri[2]});
+      },
+      [&](std::size_t t, Base64& b) {
+        for (NodeId v : m.triangles[t]) b.le(static_cast<std::int32_t>(v));
+      });
+  array(
+      "Int32", "offsets", 1, nt, 4,
+      [&](std::size_t t) { out.line({static_cast<std::int64_t>(3 * (t + 1))}); },
+      [&](std::size_t t, Base64& b) { b.le(static_cast<std::int32_t>(3 * (t + 1))); });
   constexpr std::uint8_t kVtkTriangle = 5;
-  array("UInt8", "types", 1, nt, 1, [&](std::size_t) { out.line({kVtkTriangle}); },
-        [&](std::size_t, Base64& b) { b.le(kVtkTriangle); });
+  array(
+      "UInt8", "types", 1, nt, 1, [&](std::size_t) { out.line({kVtkTriangle}); },
+      [&](std::size_t, Base64& b) { b.le(kVtkTriangle); });
   out.put("</Cells>\n<CellData Scalars=\"face_id\">\n");
-  array("Int32", "face_id", 1, nt, 4, [&](std::size_t t) { out.line({m.triangle_face[t]}); },
-        [&](std::size_t t, Base64& b) { b.le(static_cast<std::int32_t>(m.triangle_face[t])); });
+  array(
+      "Int32", "face_id", 1, nt, 4, [&](std::size_t t) { out.line({m.triangle_face[t]}); },
+      [&](std::size_t t, Base64& b) { b.le(static_cast<std::int32_t>(m.triangle_face[t])); });
   out.put("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
 }
 
@@ -1031,11 +1082,11 @@ struct FormatInfo {
 };
 
 constexpr FormatInfo kFormats[] = {
-    {MeshFormat::Msh41, "msh41", ".msh"}, {MeshFormat::Msh22, "msh22", ".msh"},
-    {MeshFormat::Medit, "medit", ".mesh"}, {MeshFormat::Meshb, "meshb", ".meshb"},
-    {MeshFormat::Stl, "stl", ".stl"},     {MeshFormat::Obj, "obj", ".obj"},
-    {MeshFormat::Ply, "ply", ".ply"},     {MeshFormat::Vtk, "vtk", ".vtk"},
-    {MeshFormat::Vtu, "vtu", ".vtu"},     {MeshFormat::Poly, "poly", ".poly"},
+    {MeshFormat::Msh41, "msh41", ".msh"},   {MeshFormat::Msh22, "msh22", ".msh"},
+    {MeshFormat::Medit, "medit", ".mesh"},  {MeshFormat::Meshb, "meshb", ".meshb"},
+    {MeshFormat::Stl, "stl", ".stl"},       {MeshFormat::Obj, "obj", ".obj"},
+    {MeshFormat::Ply, "ply", ".ply"},       {MeshFormat::Vtk, "vtk", ".vtk"},
+    {MeshFormat::Vtu, "vtu", ".vtu"},       {MeshFormat::Poly, "poly", ".poly"},
     {MeshFormat::Smesh, "smesh", ".smesh"}, {MeshFormat::Drc, "drc", ".drc"},
     {MeshFormat::Glb, "glb", ".glb"},
 };
@@ -1085,11 +1136,12 @@ WriteResult write_mesh(const surface::SurfaceMesh& m, const geom::Model* model,
   if (!fmt) return fail("unknown mesh file extension (known: " + known_mesh_extensions() + ")");
   const MeshFormat f = *fmt;
   const bool binary_only = f == MeshFormat::Meshb || f == MeshFormat::Drc || f == MeshFormat::Glb;
-  const bool has_binary = binary_only || f == MeshFormat::Msh41 || f == MeshFormat::Stl || f == MeshFormat::Ply ||
-                          f == MeshFormat::Vtk || f == MeshFormat::Vtu;
-  const bool binary = opts.encoding == Encoding::Binary ||
-                      (opts.encoding == Encoding::Default &&
-                       (binary_only || f == MeshFormat::Stl || f == MeshFormat::Ply || f == MeshFormat::Vtu));
+  const bool has_binary = binary_only || f == MeshFormat::Msh41 || f == MeshFormat::Stl ||
+                          f == MeshFormat::Ply || f == MeshFormat::Vtk || f == MeshFormat::Vtu;
+  const bool binary =
+      opts.encoding == Encoding::Binary ||
+      (opts.encoding == Encoding::Default &&
+       (binary_only || f == MeshFormat::Stl || f == MeshFormat::Ply || f == MeshFormat::Vtu));
   if (binary && !has_binary)
     return fail("there is no binary form of " + std::string(format_name(f)) + " here");
   if (binary_only && opts.encoding == Encoding::Ascii)
@@ -1103,9 +1155,12 @@ WriteResult write_mesh(const surface::SurfaceMesh& m, const geom::Model* model,
   if ((f == MeshFormat::Ply || f == MeshFormat::Meshb) && m.triangles.size() > int32_max)
     return fail("too many triangles for 32-bit indices");
   if (f == MeshFormat::Drc || f == MeshFormat::Glb) {
-    if (opts.draco_bits < 1 || opts.draco_bits > 30) return fail("Draco quantization bits must be 1..30");
-    if (opts.draco_level < 0 || opts.draco_level > 10) return fail("Draco compression level must be 0..10");
-    if (opts.draco_normal_bits < 1 || opts.draco_normal_bits > 30) return fail("Draco normal bits must be 1..30");
+    if (opts.draco_bits < 1 || opts.draco_bits > 30)
+      return fail("Draco quantization bits must be 1..30");
+    if (opts.draco_level < 0 || opts.draco_level > 10)
+      return fail("Draco compression level must be 0..10");
+    if (opts.draco_normal_bits < 1 || opts.draco_normal_bits > 30)
+      return fail("Draco normal bits must be 1..30");
   }
 
   Counts counts;
@@ -1127,22 +1182,46 @@ WriteResult write_mesh(const surface::SurfaceMesh& m, const geom::Model* model,
   Sink out(tmp.fd());
   const Physicals phys = physicals(model, counts, opts.physical_groups);
   switch (f) {
-    case MeshFormat::Msh41: write_msh41(out, m, model, counts, phys, binary); break;
-    case MeshFormat::Msh22: write_msh22(out, m, phys); break;
-    case MeshFormat::Medit: write_medit(out, m); break;
-    case MeshFormat::Meshb: write_meshb(out, m); break;
-    case MeshFormat::Stl:
-      if (binary) write_stl_binary(out, m);
-      else write_stl_ascii(out, m);
+    case MeshFormat::Msh41:
+      write_msh41(out, m, model, counts, phys, binary);
       break;
-    case MeshFormat::Obj: write_obj(out, m, counts); break;
-    case MeshFormat::Ply: write_ply(out, m, binary); break;
-    case MeshFormat::Vtk: write_vtk(out, m, binary); break;
-    case MeshFormat::Vtu: write_vtu(out, m, binary); break;
-    case MeshFormat::Poly: write_tetgen(out, m, false); break;
-    case MeshFormat::Smesh: write_tetgen(out, m, true); break;
+    case MeshFormat::Msh22:
+      write_msh22(out, m, phys);
+      break;
+    case MeshFormat::Medit:
+      write_medit(out, m);
+      break;
+    case MeshFormat::Meshb:
+      write_meshb(out, m);
+      break;
+    case MeshFormat::Stl:
+      if (binary)
+        write_stl_binary(out, m);
+      else
+        write_stl_ascii(out, m);
+      break;
+    case MeshFormat::Obj:
+      write_obj(out, m, counts);
+      break;
+    case MeshFormat::Ply:
+      write_ply(out, m, binary);
+      break;
+    case MeshFormat::Vtk:
+      write_vtk(out, m, binary);
+      break;
+    case MeshFormat::Vtu:
+      write_vtu(out, m, binary);
+      break;
+    case MeshFormat::Poly:
+      write_tetgen(out, m, false);
+      break;
+    case MeshFormat::Smesh:
+      write_tetgen(out, m, true);
+      break;
     case MeshFormat::Drc:
-    case MeshFormat::Glb: out.raw(encoded.data(), encoded.size()); break;
+    case MeshFormat::Glb:
+      out.raw(encoded.data(), encoded.size());
+      break;
   }
   out.flush();
   if (out.error() != 0) return fail(std::string("write failed: ") + std::strerror(out.error()));

@@ -4,8 +4,8 @@
 #include "uvmesh/io/report.h"
 
 #include <algorithm>
-#include <memory>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <numeric>
 #include <unordered_map>
@@ -63,7 +63,8 @@ std::size_t components(const SurfaceMesh& m, const EdgeTable& e) {
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&](std::int32_t x) {
     while (parent[static_cast<std::size_t>(x)] != x) {
-      parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+      parent[static_cast<std::size_t>(x)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
       x = parent[static_cast<std::size_t>(x)];
     }
     return x;
@@ -83,11 +84,13 @@ std::size_t components(const SurfaceMesh& m, const EdgeTable& e) {
   return n;
 }
 
-std::size_t free_on_open_model_edges(const SurfaceMesh& m, const geom::Model& model, const EdgeTable& e) {
+std::size_t free_on_open_model_edges(const SurfaceMesh& m, const geom::Model& model,
+                                     const EdgeTable& e) {
   const auto ef = geom::edge_faces(model);
   std::size_t n = 0;
   for (const auto& s : m.segments) {
-    if (s.edge < 0 || static_cast<std::size_t>(s.edge) >= ef.size() || ef[static_cast<std::size_t>(s.edge)].size() > 1)
+    if (s.edge < 0 || static_cast<std::size_t>(s.edge) >= ef.size() ||
+        ef[static_cast<std::size_t>(s.edge)].size() > 1)
       continue;
     const std::pair<NodeId, NodeId> key{std::min(s.a, s.b), std::max(s.a, s.b)};
     const auto it = std::lower_bound(e.edges.begin(), e.edges.end(), key);
@@ -109,21 +112,24 @@ Histogram uniform_histogram(double lo, double hi, int bins) {
 void add_uniform(Histogram& h, double x) {
   const double lo = h.lo.front(), w = (h.hi - lo) / static_cast<double>(h.count.size());
   const auto i = static_cast<std::ptrdiff_t>(std::floor((x - lo) / w));
-  ++h.count[static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(i, 0, static_cast<std::ptrdiff_t>(h.count.size()) - 1))];
+  ++h.count[static_cast<std::size_t>(
+      std::clamp<std::ptrdiff_t>(i, 0, static_cast<std::ptrdiff_t>(h.count.size()) - 1))];
 }
 
 // Metric edge lengths: each node takes the metric of its face's background size field at
 // its (u,v) (the first triangle using it decides the face); an edge's length is the mean
 // of its lengths in its two end metrics (the trapezoid rule of 7.5.2).
-std::optional<surface::EdgeLengthReport> metric_lengths(const SurfaceMesh& m, const geom::Model& model,
-                                                         const param::SizeSpec& spec) {
+std::optional<surface::EdgeLengthReport> metric_lengths(const SurfaceMesh& m,
+                                                        const geom::Model& model,
+                                                        const param::SizeSpec& spec) {
   const std::size_t np = m.points.size();
   std::vector<geom::Id> face_of(np, geom::kNone);
   std::vector<geom::Vec2> uv_of(np, geom::Vec2(0.0));
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const auto v = static_cast<std::size_t>(m.triangles[t][k]);
-      if (v < np && face_of[v] == geom::kNone) face_of[v] = m.triangle_face[t], uv_of[v] = m.triangle_uv[t][k];
+      if (v < np && face_of[v] == geom::kNone)
+        face_of[v] = m.triangle_face[t], uv_of[v] = m.triangle_uv[t][k];
     }
   std::vector<std::unique_ptr<param::FaceSizeField>> fields(model.faces.size());
   std::vector<param::Metric3> metric(np);
@@ -151,9 +157,10 @@ std::optional<surface::EdgeLengthReport> metric_lengths(const SurfaceMesh& m, co
 }
 
 nlohmann::json edge_length_json(const surface::EdgeLengthReport& r) {
-  return {{"edges", r.edges}, {"unit", r.unit},       {"unit_share", r.unit_share}, {"short", r.short_edges},
-          {"long", r.long_edges}, {"min", r.min},     {"max", r.max},               {"mean", r.mean},
-          {"bin_lo", r.bin_lo},   {"count", r.bin_count}};
+  return {{"edges", r.edges},       {"unit", r.unit},       {"unit_share", r.unit_share},
+          {"short", r.short_edges}, {"long", r.long_edges}, {"min", r.min},
+          {"max", r.max},           {"mean", r.mean},       {"bin_lo", r.bin_lo},
+          {"count", r.bin_count}};
 }
 
 nlohmann::json histogram_json(const Histogram& h) {
@@ -173,7 +180,8 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
   const EdgeTable e = edge_table(m);
   d.components = components(m, e);
   if (model) d.free_edges_on_open_model_edges = free_on_open_model_edges(m, *model, e);
-  if (opt.self_intersections) d.intersections = surface::find_self_intersections(m, opt.max_list, opt.threads);
+  if (opt.self_intersections)
+    d.intersections = surface::find_self_intersections(m, opt.max_list, opt.threads);
   d.quality = surface::measure_quality(m, opt.max_list);
 
   // Edge lengths relative to the median edge: the report of a mesh without a size field
@@ -184,12 +192,15 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
                            m.points[static_cast<std::size_t>(e.edges[k].second)]);
   if (!len.empty()) {
     std::vector<double> sorted = len;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    std::nth_element(sorted.begin(),
+                     sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
     d.median_edge = sorted[sorted.size() / 2];
   }
   const double ref = d.median_edge > 0 ? d.median_edge : 1.0;
   d.edge_lengths = surface::measure_edge_lengths(m, [&](NodeId a, NodeId b) {
-    return glm::distance(m.points[static_cast<std::size_t>(a)], m.points[static_cast<std::size_t>(b)]) / ref;
+    return glm::distance(m.points[static_cast<std::size_t>(a)],
+                         m.points[static_cast<std::size_t>(b)]) /
+           ref;
   });
   d.edge_histogram.lo = d.edge_lengths.bin_lo;
   d.edge_histogram.hi = std::numeric_limits<double>::infinity();
@@ -198,7 +209,8 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
   d.q_histogram = uniform_histogram(0.0, 1.0, 20);
   d.angle_histogram = uniform_histogram(0.0, 180.0, 18);
   for (const auto& tri : m.triangles) {
-    const geom::Vec3 p[3] = {m.points[static_cast<std::size_t>(tri[0])], m.points[static_cast<std::size_t>(tri[1])],
+    const geom::Vec3 p[3] = {m.points[static_cast<std::size_t>(tri[0])],
+                             m.points[static_cast<std::size_t>(tri[1])],
                              m.points[static_cast<std::size_t>(tri[2])]};
     const double Q = surface::triangle_Q(p[0], p[1], p[2]);
     add_uniform(d.q_histogram, std::isfinite(Q) && Q > 0 ? 1.0 / Q : 0.0);
@@ -206,14 +218,17 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
       const geom::Vec3 u = p[(k + 1) % 3] - p[k], v = p[(k + 2) % 3] - p[k];
       const double lu = glm::length(u), lv = glm::length(v);
       if (lu > 0 && lv > 0)
-        add_uniform(d.angle_histogram, std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0)) * 180.0 / std::numbers::pi);
+        add_uniform(d.angle_histogram,
+                    std::acos(std::clamp(glm::dot(u, v) / (lu * lv), -1.0, 1.0)) * 180.0 /
+                        std::numbers::pi);
     }
   }
 
   d.chordal_tolerance = opt.chordal_tolerance;
   if (model) {
     bool ids_ok = true;
-    for (geom::Id f : m.triangle_face) ids_ok = ids_ok && f >= 0 && static_cast<std::size_t>(f) < model->faces.size();
+    for (geom::Id f : m.triangle_face)
+      ids_ok = ids_ok && f >= 0 && static_cast<std::size_t>(f) < model->faces.size();
     if (m.triangle_uv.size() != m.triangles.size())
       d.chordal_unavailable = "the mesh has no (u,v) per triangle corner";
     else if (!ids_ok)
@@ -221,8 +236,10 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
     else
       d.chordal = surface::measure_chordal(m, *model, opt.threads);
     if (opt.size) {
-      if (!d.chordal_unavailable.empty()) d.metric_unavailable = d.chordal_unavailable;
-      else d.metric_edge_lengths = metric_lengths(m, *model, *opt.size);
+      if (!d.chordal_unavailable.empty())
+        d.metric_unavailable = d.chordal_unavailable;
+      else
+        d.metric_edge_lengths = metric_lengths(m, *model, *opt.size);
     }
   }
   return d;
@@ -250,7 +267,8 @@ nlohmann::json report_json(const CheckData& d) {
                   {"bad_at_corners", q.bad_at_corners},
                   {"bad_away_from_corners", q.bad_away_from_corners}};
   nlohmann::json bad = nlohmann::json::array();
-  for (const auto& b : q.bad_list) bad.push_back({{"triangle", b.triangle}, {"face", b.face}, {"Q", b.Q}});
+  for (const auto& b : q.bad_list)
+    bad.push_back({{"triangle", b.triangle}, {"face", b.face}, {"Q", b.Q}});
   j["quality"]["bad_list"] = bad;
 
   const surface::TopologyReport& t = d.topology;
@@ -273,11 +291,13 @@ nlohmann::json report_json(const CheckData& d) {
   topo["free_list"] = edge_list(t.free_list);
   topo["non_manifold_list"] = edge_list(t.non_manifold_list);
   topo["inconsistent_list"] = edge_list(t.inconsistent_list);
-  if (d.free_edges_on_open_model_edges) topo["free_edges_on_open_model_edges"] = *d.free_edges_on_open_model_edges;
+  if (d.free_edges_on_open_model_edges)
+    topo["free_edges_on_open_model_edges"] = *d.free_edges_on_open_model_edges;
   if (d.intersections) {
     topo["self_intersections"] = d.intersections->intersecting_pairs;
     nlohmann::json pairs = nlohmann::json::array();
-    for (const auto& p : d.intersections->pairs) pairs.push_back({{"t0", p.t0}, {"f0", p.f0}, {"t1", p.t1}, {"f1", p.f1}});
+    for (const auto& p : d.intersections->pairs)
+      pairs.push_back({{"t0", p.t0}, {"f0", p.f0}, {"t1", p.t1}, {"f1", p.f1}});
     topo["self_intersection_list"] = pairs;
   }
   j["topology"] = topo;
@@ -289,8 +309,10 @@ nlohmann::json report_json(const CheckData& d) {
                                    {"max", el.max * d.median_edge},
                                    {"mean", el.mean * d.median_edge},
                                    {"share_within_sqrt2_of_median", el.unit_share}};
-  if (d.metric_edge_lengths) j["metric_edge_lengths"] = edge_length_json(*d.metric_edge_lengths);
-  else if (!d.metric_unavailable.empty()) j["metric_edge_lengths"] = {{"unavailable", d.metric_unavailable}};
+  if (d.metric_edge_lengths)
+    j["metric_edge_lengths"] = edge_length_json(*d.metric_edge_lengths);
+  else if (!d.metric_unavailable.empty())
+    j["metric_edge_lengths"] = {{"unavailable", d.metric_unavailable}};
   if (d.chordal) {
     const surface::ChordalReport& ch = *d.chordal;
     const double tol = d.chordal_tolerance;
@@ -321,8 +343,8 @@ std::string attach_uv(SurfaceMesh& m, const geom::Model& model) {
   for (std::size_t t = 0; t < nt; ++t) {
     const geom::Id f = m.triangle_face[t];
     if (f < 0 || static_cast<std::size_t>(f) >= model.faces.size())
-      return "triangle " + std::to_string(t) + " is on face " + std::to_string(f) + ", which the model (" +
-             std::to_string(model.faces.size()) + " faces) does not have";
+      return "triangle " + std::to_string(t) + " is on face " + std::to_string(f) +
+             ", which the model (" + std::to_string(model.faces.size()) + " faces) does not have";
     by_face[static_cast<std::size_t>(f)].push_back(t);
   }
   constexpr int kGrid = 48;

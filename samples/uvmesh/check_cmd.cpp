@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/mesh_reader.h"
@@ -34,27 +34,43 @@ bool write_file(const std::filesystem::path& p, const std::string& text) {
 CLI::App* add_check_command(CLI::App& app, CheckFlags& f) {
   CLI::App* c = app.add_subcommand(
       "check",
-      "grade a surface mesh: topology (free, non-manifold, inconsistently oriented edges, components),\n"
-      "self-intersections, shape quality (Q, q, angles), edge lengths, chordal deviation against the\n"
+      "grade a surface mesh: topology (free, non-manifold, inconsistently oriented edges, "
+      "components),\n"
+      "self-intersections, shape quality (Q, q, angles), edge lengths, chordal deviation against "
+      "the\n"
       "CAD model (--model; the mesh's face ids must be the model's, as uvmesh writes them)");
   c->add_option("MESH", f.mesh, "mesh file (" + io::readable_mesh_extensions() + ")")->required();
-  c->add_option("--format", f.format, "read as this format instead of the extension's (msh41, medit, meshb, stl, obj, ply, drc)");
+  c->add_option(
+      "--format", f.format,
+      "read as this format instead of the extension's (msh41, medit, meshb, stl, obj, ply, drc)");
   c->add_option("--model", f.model.model, "CAD model the mesh was made from (STEP, IGES, BREP)");
-  c->add_flag("--no-heal", f.model.no_heal, "read the model without healing (as `uvmesh mesh --no-heal` did)");
-  c->add_flag("--conform", f.model.conform, "read the model made conforming (as `uvmesh mesh --conform` did)");
-  c->add_option("--chordal", f.chordal, "chordal tolerance to compare the deviation with")->check(CLI::PositiveNumber);
+  c->add_flag("--no-heal", f.model.no_heal,
+              "read the model without healing (as `uvmesh mesh --no-heal` did)");
+  c->add_flag("--conform", f.model.conform,
+              "read the model made conforming (as `uvmesh mesh --conform` did)");
+  c->add_option("--chordal", f.chordal, "chordal tolerance to compare the deviation with")
+      ->check(CLI::PositiveNumber);
   // The size options of `uvmesh mesh`, for edge lengths in the size metric (with --model).
-  c->add_option("--hmax", f.hmax, "with --model: largest size of the metric (default D/20)")->check(CLI::PositiveNumber);
-  c->add_option("--hmin", f.hmin, "with --model: smallest size of the metric (default D/1000)")->check(CLI::PositiveNumber);
-  c->add_option("--angle", f.angle_deg, "with --model: curvature angle per element, degrees")->check(CLI::Range(0.1, 180.0));
-  c->add_option("--grad", f.grad, "with --model: gradation of the metric")->check(CLI::Range(1.0, 100.0));
-  c->add_option("--aniso", f.aniso, "with --model: anisotropic curvature sizes, stretch ratio at most R")
+  c->add_option("--hmax", f.hmax, "with --model: largest size of the metric (default D/20)")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--hmin", f.hmin, "with --model: smallest size of the metric (default D/1000)")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--angle", f.angle_deg, "with --model: curvature angle per element, degrees")
+      ->check(CLI::Range(0.1, 180.0));
+  c->add_option("--grad", f.grad, "with --model: gradation of the metric")
+      ->check(CLI::Range(1.0, 100.0));
+  c->add_option("--aniso", f.aniso,
+                "with --model: anisotropic curvature sizes, stretch ratio at most R")
       ->check(CLI::Range(1.0, 1e4));
   c->add_flag("--json", f.json, "the JSON report on stdout");
-  c->add_option("--svg", f.svg_dir, "write histograms of quality, angles and edge sizes as SVG into DIR");
-  c->add_option("--face", f.face, "with --svg: also draw face N's mesh in its (u,v) domain (needs --model for a file without (u,v))")
+  c->add_option("--svg", f.svg_dir,
+                "write histograms of quality, angles and edge sizes as SVG into DIR");
+  c->add_option("--face", f.face,
+                "with --svg: also draw face N's mesh in its (u,v) domain (needs --model for a file "
+                "without (u,v))")
       ->check(CLI::NonNegativeNumber);
-  c->add_option("--threads", f.threads, "worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  c->add_option("--threads", f.threads, "worker threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
   c->add_flag("--no-selfint", f.no_selfint, "skip the self-intersection search");
   return c;
 }
@@ -64,7 +80,8 @@ int run_check(const CheckFlags& f) {
   if (!f.format.empty()) {
     ro.format = io::format_from_name(f.format);
     if (!ro.format) {
-      std::cerr << "uvmesh: error: unknown format '" << f.format << "' (known: " << io::known_format_names() << ")\n";
+      std::cerr << "uvmesh: error: unknown format '" << f.format
+                << "' (known: " << io::known_format_names() << ")\n";
       return 1;
     }
   }
@@ -77,7 +94,8 @@ int run_check(const CheckFlags& f) {
     std::cerr << "uvmesh: error: " << mr.error << "\n";
     return 2;
   }
-  for (const std::string& w : mr.warnings) std::cerr << "uvmesh: warning: " << f.mesh << ": " << w << "\n";
+  for (const std::string& w : mr.warnings)
+    std::cerr << "uvmesh: warning: " << f.mesh << ": " << w << "\n";
 
   io::ReadResult model;
   if (!f.model.model.empty()) {
@@ -87,9 +105,11 @@ int run_check(const CheckFlags& f) {
       return 2;
     }
     if (!mr.has_face_ids) {
-      std::cerr << "uvmesh: warning: " << f.mesh << ": the file carries no face ids; chordal deviation is not measured\n";
+      std::cerr << "uvmesh: warning: " << f.mesh
+                << ": the file carries no face ids; chordal deviation is not measured\n";
     } else if (std::string why = io::attach_uv(mr.mesh, model.model); !why.empty()) {
-      std::cerr << "uvmesh: warning: " << f.mesh << ": " << why << "; chordal deviation is not measured\n";
+      std::cerr << "uvmesh: warning: " << f.mesh << ": " << why
+                << "; chordal deviation is not measured\n";
       mr.mesh.triangle_uv.clear();
     }
   }
@@ -135,13 +155,17 @@ int run_check(const CheckFlags& f) {
       std::string svg;
     };
     std::vector<Picture> pics = {
-        {"quality_q.svg", io::histogram_svg(d.q_histogram, "shape quality q = 1/Q (1 = equilateral)", "q")},
+        {"quality_q.svg",
+         io::histogram_svg(d.q_histogram, "shape quality q = 1/Q (1 = equilateral)", "q")},
         {"angles.svg", io::histogram_svg(d.angle_histogram, "triangle angles", "degrees")},
-        {"edge_length.svg", io::histogram_svg(d.edge_histogram, "edge length / median edge (" + std::to_string(d.median_edge) + ")",
-                                              "length / median (half-octave bins)")}};
+        {"edge_length.svg",
+         io::histogram_svg(d.edge_histogram,
+                           "edge length / median edge (" + std::to_string(d.median_edge) + ")",
+                           "length / median (half-octave bins)")}};
     if (f.face >= 0) {
       if (mr.mesh.triangle_uv.size() != mr.mesh.triangles.size()) {
-        std::cerr << "uvmesh: error: --face " << f.face << ": the mesh has no (u,v); give --model (and a mesh with face ids)\n";
+        std::cerr << "uvmesh: error: --face " << f.face
+                  << ": the mesh has no (u,v); give --model (and a mesh with face ids)\n";
         return 1;
       }
       std::string svg = io::face_uv_svg(mr.mesh, f.face);
@@ -169,26 +193,31 @@ int run_check(const CheckFlags& f) {
   }
   const auto& t = d.topology;
   const auto& q = d.quality;
-  std::cout << f.mesh << " (" << io::format_name(mr.format) << "): " << d.points << " points, " << d.triangles
-            << " triangles, " << d.segments << " segments\n";
-  std::cout << "topology: " << t.edges << " edges, " << t.free_edges << " free, " << t.non_manifold_edges
-            << " non-manifold, " << t.inconsistent_edges << " inconsistently oriented; " << d.components
-            << " component(s); Euler characteristic " << t.euler_characteristic << "; " << t.degenerate_triangles
-            << " degenerate triangles; " << t.close_points.pairs << " close point pairs"
-            << (t.watertight() ? "; watertight" : "") << "\n";
-  if (d.intersections) std::cout << "self-intersections: " << d.intersections->intersecting_pairs << " triangle pairs\n";
-  std::cout << "quality: Q max " << q.Q_max << ", p95 " << q.Q_p95 << ", p50 " << q.Q_p50 << "; q min " << q.q_min
-            << ", mean " << q.q_mean << "; " << 100.0 * q.share_Q_lt_1_5 << "% with Q < 1.5; angles "
-            << q.min_angle_deg << " .. " << q.max_angle_deg << " deg\n";
-  std::cout << "edge lengths: median " << d.median_edge << ", min " << d.edge_lengths.min * d.median_edge << ", max "
-            << d.edge_lengths.max * d.median_edge << "; " << 100.0 * d.edge_lengths.unit_share
-            << "% within sqrt(2) of the median\n";
+  std::cout << f.mesh << " (" << io::format_name(mr.format) << "): " << d.points << " points, "
+            << d.triangles << " triangles, " << d.segments << " segments\n";
+  std::cout << "topology: " << t.edges << " edges, " << t.free_edges << " free, "
+            << t.non_manifold_edges << " non-manifold, " << t.inconsistent_edges
+            << " inconsistently oriented; " << d.components
+            << " component(s); Euler characteristic " << t.euler_characteristic << "; "
+            << t.degenerate_triangles << " degenerate triangles; " << t.close_points.pairs
+            << " close point pairs" << (t.watertight() ? "; watertight" : "") << "\n";
+  if (d.intersections)
+    std::cout << "self-intersections: " << d.intersections->intersecting_pairs
+              << " triangle pairs\n";
+  std::cout << "quality: Q max " << q.Q_max << ", p95 " << q.Q_p95 << ", p50 " << q.Q_p50
+            << "; q min " << q.q_min << ", mean " << q.q_mean << "; " << 100.0 * q.share_Q_lt_1_5
+            << "% with Q < 1.5; angles " << q.min_angle_deg << " .. " << q.max_angle_deg
+            << " deg\n";
+  std::cout << "edge lengths: median " << d.median_edge << ", min "
+            << d.edge_lengths.min * d.median_edge << ", max " << d.edge_lengths.max * d.median_edge
+            << "; " << 100.0 * d.edge_lengths.unit_share << "% within sqrt(2) of the median\n";
   if (d.metric_edge_lengths)
-    std::cout << "edge lengths in the size metric: " << 100.0 * d.metric_edge_lengths->unit_share << "% unit (in [1/sqrt2, sqrt2]), "
-              << d.metric_edge_lengths->short_edges << " short, " << d.metric_edge_lengths->long_edges << " long\n";
+    std::cout << "edge lengths in the size metric: " << 100.0 * d.metric_edge_lengths->unit_share
+              << "% unit (in [1/sqrt2, sqrt2]), " << d.metric_edge_lengths->short_edges
+              << " short, " << d.metric_edge_lengths->long_edges << " long\n";
   if (d.chordal)
-    std::cout << "chordal deviation: max " << d.chordal->max << ", mean " << d.chordal->mean << " (face "
-              << d.chordal->worst.face << ")\n";
+    std::cout << "chordal deviation: max " << d.chordal->max << ", mean " << d.chordal->mean
+              << " (face " << d.chordal->worst.face << ")\n";
   else if (!d.chordal_unavailable.empty())
     std::cout << "chordal deviation: not measured (" << d.chordal_unavailable << ")\n";
   if (j.contains("svg"))

@@ -3,13 +3,12 @@
 // grade_mesh.py) run as child processes whose "@key value" lines are collected.
 #pragma once
 
-#include <catch2/catch.hpp>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <catch2/catch.hpp>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -29,7 +28,6 @@ namespace uvmesh_test {
 
 using namespace uvmesh;
 namespace fs = std::filesystem;
-
 
 using Lattice = std::array<int, 3>;
 
@@ -79,7 +77,8 @@ inline Cube make_cube(int n) {
     p[a] = n;
     edge.v1 = vertex_id(p);
     chain.push_back(node.at(p));
-    for (std::size_t i = 0; i + 1 < chain.size(); ++i) m.segments.push_back({chain[i], chain[i + 1], e});
+    for (std::size_t i = 0; i + 1 < chain.size(); ++i)
+      m.segments.push_back({chain[i], chain[i + 1], e});
     md.edges.push_back(edge);
   }
   // The edge between two lattice corners and whether a walk from p to q runs against it.
@@ -148,7 +147,8 @@ struct TempDir {
   std::string file(const std::string& name) const { return (path / name).string(); }
   std::vector<std::string> entries() const {
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path)) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(path))
+      names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
     return names;
   }
@@ -260,7 +260,8 @@ inline Reading read_back(const TempDir& dir, const std::string& mode, const std:
 }
 
 // The "@key n" counts a reader printed.
-inline void check_counts(const Reading& r, std::initializer_list<std::pair<const char*, long>> expected) {
+inline void check_counts(const Reading& r,
+                         std::initializer_list<std::pair<const char*, long>> expected) {
   INFO(r.run.out);
   for (const auto& [key, n] : expected) {
     INFO(key);
@@ -269,8 +270,8 @@ inline void check_counts(const Reading& r, std::initializer_list<std::pair<const
 }
 
 // Writes and requires success.
-inline void write_ok(const surface::SurfaceMesh& m, const geom::Model* model, const std::string& path,
-              const io::WriteOptions& opts = {}) {
+inline void write_ok(const surface::SurfaceMesh& m, const geom::Model* model,
+                     const std::string& path, const io::WriteOptions& opts = {}) {
   const io::WriteResult w = io::write_mesh(m, model, path, opts);
   INFO(w.error);
   REQUIRE(w.ok);
@@ -315,7 +316,8 @@ inline std::string grade_mesh_script() {
 
 // grade_mesh.py on a written cube: closed, consistently oriented, outward (volume +1).
 inline void check_closed_cube(const std::string& path) {
-  const Run r = run(python() + " " + quoted(grade_mesh_script()) + " " + quoted(path) + " --no-tetgen");
+  const Run r =
+      run(python() + " " + quoted(grade_mesh_script()) + " " + quoted(path) + " --no-tetgen");
   INFO("grade_mesh.py " << path << ": " << r.out);
   REQUIRE(r.status == 0);
   CHECK(json_number(r.out, "free_edges") == 0);

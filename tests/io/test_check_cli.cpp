@@ -2,7 +2,6 @@
 // is the report `uvmesh mesh --report` wrote for the same mesh (one library function makes
 // both); SVG pictures; corrupt and truncated files give one clear error and exit 2.
 #include <catch2/catch.hpp>
-
 #include <nlohmann/json.hpp>
 
 #include "mesh_test_util.h"
@@ -35,12 +34,12 @@ Split run_split(const TempDir& dir, const std::string& cmd) {
 TEST_CASE("check: the report of a mesh file is the report uvmesh mesh wrote", "[io][check][cli]") {
   TempDir dir("check_cli");
   const std::string msh = dir.file("b.msh"), report = dir.file("b.json");
-  const Split m = run_split(dir, quoted(kExe) + " mesh " + quoted(kBracket) + " -o " + quoted(msh) + " --report " +
-                                     quoted(report) + " -q --threads 1");
+  const Split m = run_split(dir, quoted(kExe) + " mesh " + quoted(kBracket) + " -o " + quoted(msh) +
+                                     " --report " + quoted(report) + " -q --threads 1");
   INFO(m.err);
   REQUIRE(m.status == 0);
-  const Split c = run_split(dir, quoted(kExe) + " check " + quoted(msh) + " --model " + quoted(kBracket) +
-                                     " --json --threads 1");
+  const Split c = run_split(dir, quoted(kExe) + " check " + quoted(msh) + " --model " +
+                                     quoted(kBracket) + " --json --threads 1");
   INFO(c.err);
   REQUIRE(c.status == 0);
   const nlohmann::json a = nlohmann::json::parse(slurp(report)), b = nlohmann::json::parse(c.out);
@@ -50,9 +49,11 @@ TEST_CASE("check: the report of a mesh file is the report uvmesh mesh wrote", "[
     INFO(section);
     CHECK(a.at(section) == b.at(section));
   }
-  for (const char* key : {"points", "triangles", "segments"}) CHECK(a["counts"][key] == b["counts"][key]);
+  for (const char* key : {"points", "triangles", "segments"})
+    CHECK(a["counts"][key] == b["counts"][key]);
   // Chordal: the mesher's (u,v) there, projections recovered from the file here.
-  CHECK(b["chordal"]["max"].get<double>() == Approx(a["chordal"]["max"].get<double>()).epsilon(1e-6));
+  CHECK(b["chordal"]["max"].get<double>() ==
+        Approx(a["chordal"]["max"].get<double>()).epsilon(1e-6));
   CHECK(b["chordal"]["samples"] == a["chordal"]["samples"]);
   // Edge lengths in the size metric: the same default sizes, node (u,v) recovered.
   CHECK(b["metric_edge_lengths"]["edges"] == a["metric_edge_lengths"]["edges"]);
@@ -64,16 +65,19 @@ TEST_CASE("check: the report of a mesh file is the report uvmesh mesh wrote", "[
   // The text form names the essentials.
   const Split t = run_split(dir, quoted(kExe) + " check " + quoted(msh) + " --no-selfint");
   REQUIRE(t.status == 0);
-  CHECK_THAT(t.out, Catch::Contains("0 free, 0 non-manifold, 0 inconsistently oriented; 1 component(s)"));
+  CHECK_THAT(t.out,
+             Catch::Contains("0 free, 0 non-manifold, 0 inconsistently oriented; 1 component(s)"));
   CHECK_THAT(t.out, Catch::Contains("quality: Q max"));
 }
 
 TEST_CASE("check: --svg draws histograms and a face's (u,v) mesh", "[io][check][cli]") {
   TempDir dir("check_cli");
   const std::string stl = dir.file("b.stl"), msh = dir.file("b.msh"), svg = dir.file("svg");
-  REQUIRE(run(quoted(kExe) + " mesh " + quoted(kBracket) + " -o " + quoted(msh) + " -q").status == 0);
-  const Split s = run_split(dir, quoted(kExe) + " check " + quoted(msh) + " --model " + quoted(kBracket) + " --svg " +
-                                     quoted(svg) + " --face 3 --no-selfint");
+  REQUIRE(run(quoted(kExe) + " mesh " + quoted(kBracket) + " -o " + quoted(msh) + " -q").status ==
+          0);
+  const Split s =
+      run_split(dir, quoted(kExe) + " check " + quoted(msh) + " --model " + quoted(kBracket) +
+                         " --svg " + quoted(svg) + " --face 3 --no-selfint");
   INFO(s.err);
   REQUIRE(s.status == 0);
   for (const char* f : {"quality_q.svg", "angles.svg", "edge_length.svg", "face_3_uv.svg"}) {
@@ -84,19 +88,24 @@ TEST_CASE("check: --svg draws histograms and a face's (u,v) mesh", "[io][check][
   }
   CHECK(slurp((fs::path(svg) / "face_3_uv.svg").string()).find("<polygon") != std::string::npos);
   // --face needs (u,v): an STL file has no face ids to recover them from.
-  REQUIRE(run(quoted(kExe) + " mesh " + quoted(kBracket) + " -o " + quoted(stl) + " -q").status == 0);
-  const Split n = run_split(dir, quoted(kExe) + " check " + quoted(stl) + " --svg " + quoted(svg) + " --face 3");
+  REQUIRE(run(quoted(kExe) + " mesh " + quoted(kBracket) + " -o " + quoted(stl) + " -q").status ==
+          0);
+  const Split n = run_split(
+      dir, quoted(kExe) + " check " + quoted(stl) + " --svg " + quoted(svg) + " --face 3");
   CHECK(n.status == 1);
   CHECK_THAT(n.err, Catch::Contains("the mesh has no (u,v)"));
 }
 
-TEST_CASE("check: a corrupt or truncated mesh gives one clear error and exit 2", "[io][check][cli]") {
+TEST_CASE("check: a corrupt or truncated mesh gives one clear error and exit 2",
+          "[io][check][cli]") {
   TempDir dir("check_cli");
   const std::string msh = dir.file("b.msh");
-  REQUIRE(run(quoted(kExe) + " mesh " + quoted(kBracket) + " -o " + quoted(msh) + " -q").status == 0);
+  REQUIRE(run(quoted(kExe) + " mesh " + quoted(kBracket) + " -o " + quoted(msh) + " -q").status ==
+          0);
   const std::string data = slurp(msh);
   const std::string cut = dir.file("cut.msh");
-  std::ofstream(cut, std::ios::binary).write(data.data(), static_cast<std::streamsize>(data.size() / 3));
+  std::ofstream(cut, std::ios::binary)
+      .write(data.data(), static_cast<std::streamsize>(data.size() / 3));
   const std::string junk = dir.file("junk.stl");
   std::ofstream(junk, std::ios::binary) << "not a mesh at all";
   const std::string glb = dir.file("b.glb");
@@ -104,8 +113,10 @@ TEST_CASE("check: a corrupt or truncated mesh gives one clear error and exit 2",
   struct Bad {
     std::string path, expect;
   };
-  for (const Bad& b : {Bad{cut, "cut.msh: line "}, Bad{junk, "junk.stl: byte offset 0: too short for binary STL"},
-                       Bad{glb, "b.glb: not a mesh format read here"}, Bad{dir.file("none.msh"), "none.msh: cannot open"}}) {
+  for (const Bad& b :
+       {Bad{cut, "cut.msh: line "}, Bad{junk, "junk.stl: byte offset 0: too short for binary STL"},
+        Bad{glb, "b.glb: not a mesh format read here"},
+        Bad{dir.file("none.msh"), "none.msh: cannot open"}}) {
     INFO(b.path);
     const Split s = run_split(dir, quoted(kExe) + " check " + quoted(b.path));
     CHECK(s.status == 2);

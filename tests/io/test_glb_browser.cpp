@@ -4,7 +4,6 @@
 // the meshes, triangles and vertices it decoded; a PNG screenshot is saved beside the test
 // binary (glb_browser_cube.png) for a person to look at.
 #include <catch2/catch.hpp>
-
 #include <set>
 
 #include "mesh_test_util.h"
@@ -23,7 +22,8 @@ long split_vertices(const surface::SurfaceMesh& m) {
 
 }  // namespace
 
-TEST_CASE("glb: three.js in headless Chromium loads the Draco-compressed .glb", "[io][glb][browser]") {
+TEST_CASE("glb: three.js in headless Chromium loads the Draco-compressed .glb",
+          "[io][glb][browser]") {
   TempDir dir("glb_browser");
   const Cube cube = make_cube(6);
   const std::string script = std::string(UVMESH_SOURCE_DIR) + "/tests/browser/glb_in_browser.py";
@@ -32,7 +32,8 @@ TEST_CASE("glb: three.js in headless Chromium loads the Draco-compressed .glb", 
     io::GlbGroups groups;
     long meshes;
   };
-  for (const Case& c : {Case{"one mesh per solid", io::GlbGroups::Solid, 1}, Case{"one mesh per face", io::GlbGroups::Face, 6}}) {
+  for (const Case& c : {Case{"one mesh per solid", io::GlbGroups::Solid, 1},
+                        Case{"one mesh per face", io::GlbGroups::Face, 6}}) {
     SECTION(c.name) {
       io::WriteOptions o;
       o.glb_groups = c.groups;
@@ -42,13 +43,15 @@ TEST_CASE("glb: three.js in headless Chromium loads the Draco-compressed .glb", 
                               (c.groups == io::GlbGroups::Face ? "_faces" : "") + ".png";
       std::error_code ec;
       fs::remove(png, ec);
-      const Run r = run(python() + " " + quoted(script) + " " + quoted(glb) + " --screenshot " + quoted(png));
+      const Run r =
+          run(python() + " " + quoted(script) + " " + quoted(glb) + " --screenshot " + quoted(png));
       INFO(r.out);
       REQUIRE(r.status == 0);
       Reading page;
       std::istringstream in(r.out);
       for (std::string l; std::getline(in, l);)
-        if (!l.empty() && l[0] == '@') page.lines.emplace(l.substr(0, l.find(' ')), l.substr(l.find(' ') + 1));
+        if (!l.empty() && l[0] == '@')
+          page.lines.emplace(l.substr(0, l.find(' ')), l.substr(l.find(' ') + 1));
       CHECK(page.count("@meshes") == c.meshes);
       CHECK(page.count("@triangles") == static_cast<long>(cube.mesh.triangles.size()));
       CHECK(page.count("@vertices") == split_vertices(cube.mesh));

@@ -3,7 +3,6 @@
 // reference tools (meshio, Gmsh, TetGen, draco_decoder); corrupt and truncated files give
 // located errors. The browser test of .glb is test_glb_browser.cpp.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -34,7 +33,9 @@ struct Case {
 };
 
 // Draco's quantization step for the cube (extent 1) at `bits`; the error is at most half.
-double draco_step(int bits) { return 1.0 / ((1 << bits) - 1); }
+double draco_step(int bits) {
+  return 1.0 / ((1 << bits) - 1);
+}
 
 const std::vector<Case>& readable_cases() {
   static const std::vector<Case> cases = {
@@ -48,7 +49,13 @@ const std::vector<Case>& readable_cases() {
       {"OBJ", "c.obj", io::Encoding::Default, {}, false, true},
       {"PLY binary", "c.ply", io::Encoding::Default, {}, false, false},
       {"PLY ASCII", "ca.ply", io::Encoding::Ascii, {}, false, true},
-      {"Draco", "c.drc", io::Encoding::Default, {}, false, true, 0.5 * std::sqrt(3.0) * draco_step(14)},
+      {"Draco",
+       "c.drc",
+       io::Encoding::Default,
+       {},
+       false,
+       true,
+       0.5 * std::sqrt(3.0) * draco_step(14)},
   };
   return cases;
 }
@@ -91,8 +98,10 @@ std::string write_as(const TempDir& dir, const Cube& cube, const char* file, io:
 
 std::string truncated_copy(const TempDir& dir, const std::string& path, std::size_t size) {
   const std::string data = slurp(path);
-  const std::string out = dir.file("cut_" + std::to_string(size) + "_" + fs::path(path).filename().string());
-  std::ofstream(out, std::ios::binary).write(data.data(), static_cast<std::streamsize>(std::min(size, data.size())));
+  const std::string out =
+      dir.file("cut_" + std::to_string(size) + "_" + fs::path(path).filename().string());
+  std::ofstream(out, std::ios::binary)
+      .write(data.data(), static_cast<std::streamsize>(std::min(size, data.size())));
   return out;
 }
 
@@ -104,7 +113,8 @@ TEST_CASE("mesh formats: every readable format round-trips counts, coordinates a
   const Cube cube = named_cube(4);
   const surface::SurfaceMesh& orig = cube.mesh;
   std::vector<Tri> want;
-  for (std::size_t t = 0; t < orig.triangles.size(); ++t) want.push_back(canonical(orig.triangles[t], orig.triangle_face[t]));
+  for (std::size_t t = 0; t < orig.triangles.size(); ++t)
+    want.push_back(canonical(orig.triangles[t], orig.triangle_face[t]));
   std::sort(want.begin(), want.end());
 
   for (const Case& c : readable_cases()) {
@@ -134,9 +144,10 @@ TEST_CASE("mesh formats: every readable format round-trips counts, coordinates a
       for (std::size_t t = 0; t < r.mesh.triangles.size(); ++t) {
         const auto& tri = r.mesh.triangles[t];
         const geom::Id f = c.face_ids ? r.mesh.triangle_face[t] : 0;
-        got.push_back(canonical({to_orig[static_cast<std::size_t>(tri[0])], to_orig[static_cast<std::size_t>(tri[1])],
-                                 to_orig[static_cast<std::size_t>(tri[2])]},
-                                f));
+        got.push_back(canonical(
+            {to_orig[static_cast<std::size_t>(tri[0])], to_orig[static_cast<std::size_t>(tri[1])],
+             to_orig[static_cast<std::size_t>(tri[2])]},
+            f));
       }
       std::sort(got.begin(), got.end());
       if (c.face_ids) {
@@ -155,7 +166,8 @@ TEST_CASE("mesh formats: every readable format round-trips counts, coordinates a
   }
 }
 
-TEST_CASE("mesh formats: .msh 4.1 keeps the classification and the physical groups", "[io][mesh_formats]") {
+TEST_CASE("mesh formats: .msh 4.1 keeps the classification and the physical groups",
+          "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(3);
   for (io::Encoding enc : {io::Encoding::Ascii, io::Encoding::Binary}) {
@@ -173,7 +185,8 @@ TEST_CASE("mesh formats: .msh 4.1 keeps the classification and the physical grou
     CHECK(r.mesh.points == cube.mesh.points);
     CHECK(r.entities == std::array<std::size_t, 4>{8, 12, 6, 1});
     std::vector<std::string> groups;
-    for (const auto& p : r.physicals) groups.push_back(std::to_string(p.dim) + " " + std::to_string(p.tag) + " " + p.name);
+    for (const auto& p : r.physicals)
+      groups.push_back(std::to_string(p.dim) + " " + std::to_string(p.tag) + " " + p.name);
     CHECK(groups == std::vector<std::string>{"0 1 model_vertices", "1 1 model_edges", "2 1 x_walls",
                                              "2 2 unnamed_faces", "3 1 cube"});
   }
@@ -184,7 +197,8 @@ TEST_CASE("mesh formats: .msh 4.1 keeps the classification and the physical grou
   CHECK(slurp(dir.file("p.msh")).find("$PhysicalNames") == std::string::npos);
 }
 
-TEST_CASE("mesh formats: corrupt and truncated files give one located error", "[io][mesh_formats]") {
+TEST_CASE("mesh formats: corrupt and truncated files give one located error",
+          "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(3);
   for (const Case& c : readable_cases()) {
@@ -214,7 +228,8 @@ TEST_CASE("mesh formats: corrupt and truncated files give one located error", "[
   }
 }
 
-TEST_CASE("mesh formats: random byte corruptions give a mesh or an error, never a crash", "[io][mesh_formats]") {
+TEST_CASE("mesh formats: random byte corruptions give a mesh or an error, never a crash",
+          "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(2);
   std::uint64_t state = 0x9e3779b97f4a7c15ULL;  // fixed seed: the same files every run
@@ -239,7 +254,8 @@ TEST_CASE("mesh formats: random byte corruptions give a mesh or an error, never 
           const std::size_t at = next() % bad.size();
           // Digits, separators and random bytes: the text formats' likely corruptions.
           static constexpr char kChars[] = "0123456789 -.\n$eE";
-          bad[at] = next() % 2 ? kChars[next() % (sizeof kChars - 1)] : static_cast<char>(next() & 0xff);
+          bad[at] =
+              next() % 2 ? kChars[next() % (sizeof kChars - 1)] : static_cast<char>(next() & 0xff);
         }
         const std::string p = dir.file("fuzz_" + std::string(c.file));
         std::ofstream(p, std::ios::binary) << bad;
@@ -251,7 +267,8 @@ TEST_CASE("mesh formats: random byte corruptions give a mesh or an error, never 
           // A mesh that reads is consistent: indices in range, one face id per triangle.
           CHECK(r.mesh.triangle_face.size() == r.mesh.triangles.size());
           for (const auto& t : r.mesh.triangles)
-            for (surface::NodeId v : t) CHECK((v >= 0 && static_cast<std::size_t>(v) < r.mesh.points.size()));
+            for (surface::NodeId v : t)
+              CHECK((v >= 0 && static_cast<std::size_t>(v) < r.mesh.points.size()));
         }
       }
       INFO(errors << " of 150 corrupted files rejected");
@@ -260,7 +277,8 @@ TEST_CASE("mesh formats: random byte corruptions give a mesh or an error, never 
   }
 }
 
-TEST_CASE("mesh formats: malformed files name the line or byte and the problem", "[io][mesh_formats]") {
+TEST_CASE("mesh formats: malformed files name the line or byte and the problem",
+          "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   auto error_of = [&](const std::string& name, const std::string& text) {
     const std::string p = dir.file(name);
@@ -269,23 +287,35 @@ TEST_CASE("mesh formats: malformed files name the line or byte and the problem",
     CHECK_FALSE(r.ok);
     return r.error;
   };
-  CHECK_THAT(error_of("x.msh", "hello\n"), Catch::Contains("x.msh: line 1: expected '$MeshFormat'"));
-  CHECK_THAT(error_of("v.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n"), Catch::Contains("MSH version 3.0 is not read"));
-  CHECK_THAT(error_of("n.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 1 x 0\n$EndNodes\n"),
-             Catch::Contains("line 7: expected y, found 'x'"));
-  CHECK_THAT(error_of("e.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n"
-                               "$Elements\n1\n1 2 2 0 1 1 1 7\n$EndElements\n"),
+  CHECK_THAT(error_of("x.msh", "hello\n"),
+             Catch::Contains("x.msh: line 1: expected '$MeshFormat'"));
+  CHECK_THAT(error_of("v.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n"),
+             Catch::Contains("MSH version 3.0 is not read"));
+  CHECK_THAT(
+      error_of("n.msh",
+               "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2\n1 0 0 0\n2 1 x 0\n$EndNodes\n"),
+      Catch::Contains("line 7: expected y, found 'x'"));
+  CHECK_THAT(error_of("e.msh",
+                      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n1\n1 0 0 0\n$EndNodes\n"
+                      "$Elements\n1\n1 2 2 0 1 1 1 7\n$EndElements\n"),
              Catch::Contains("line 10: element refers to node 7, which is not defined"));
-  CHECK_THAT(error_of("i.mesh", "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 1\nTriangles\n1\n1 1 9 1\nEnd\n"),
+  CHECK_THAT(error_of("i.mesh",
+                      "MeshVersionFormatted 2\nDimension 3\nVertices\n1\n0 0 0 1\nTriangles\n1\n1 "
+                      "1 9 1\nEnd\n"),
              Catch::Contains("line 8: vertex index 9 is out of range 1..1"));
-  CHECK_THAT(error_of("s.stl", std::string(84, '\0') + "xyz"), Catch::Contains("s.stl: byte offset 80: binary STL announces 0 triangles (84 bytes) but the file has 87 bytes (truncated?)"));
-  CHECK_THAT(error_of("d.drc", "DRACO but not really"), Catch::Contains("d.drc: not a Draco mesh, or a corrupt one"));
+  CHECK_THAT(error_of("s.stl", std::string(84, '\0') + "xyz"),
+             Catch::Contains("s.stl: byte offset 80: binary STL announces 0 triangles (84 bytes) "
+                             "but the file has 87 bytes (truncated?)"));
+  CHECK_THAT(error_of("d.drc", "DRACO but not really"),
+             Catch::Contains("d.drc: not a Draco mesh, or a corrupt one"));
   CHECK_THAT(error_of("empty.ply", ""), Catch::Contains("empty.ply: the file is empty"));
-  CHECK_THAT(error_of("q.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n"),
-             Catch::Contains("file ends where a PLY value was expected"));
+  CHECK_THAT(
+      error_of("q.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n"),
+      Catch::Contains("file ends where a PLY value was expected"));
 }
 
-TEST_CASE("mesh formats: meshio reads every format it knows with the same counts", "[io][mesh_formats]") {
+TEST_CASE("mesh formats: meshio reads every format it knows with the same counts",
+          "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(4);
   struct Ext {
@@ -294,13 +324,19 @@ TEST_CASE("mesh formats: meshio reads every format it knows with the same counts
     std::optional<io::MeshFormat> fmt;
     long lines;  ///< line cells meshio reports (the segments where the format has them)
   };
-  const Ext exts[] = {{"m.msh", io::Encoding::Ascii, {}, 48},       {"mb.msh", io::Encoding::Binary, {}, 48},
+  const Ext exts[] = {{"m.msh", io::Encoding::Ascii, {}, 48},
+                      {"mb.msh", io::Encoding::Binary, {}, 48},
                       {"m22.msh", io::Encoding::Default, io::MeshFormat::Msh22, 48},
-                      {"m.mesh", io::Encoding::Default, {}, 48},    {"m.meshb", io::Encoding::Default, {}, 48},
-                      {"m.vtk", io::Encoding::Ascii, {}, 0},        {"mb.vtk", io::Encoding::Binary, {}, 0},
-                      {"m.vtu", io::Encoding::Binary, {}, 0},       {"ma.vtu", io::Encoding::Ascii, {}, 0},
-                      {"m.stl", io::Encoding::Binary, {}, 0},       {"ma.stl", io::Encoding::Ascii, {}, 0},
-                      {"m.obj", io::Encoding::Default, {}, 0},      {"m.ply", io::Encoding::Binary, {}, 0},
+                      {"m.mesh", io::Encoding::Default, {}, 48},
+                      {"m.meshb", io::Encoding::Default, {}, 48},
+                      {"m.vtk", io::Encoding::Ascii, {}, 0},
+                      {"mb.vtk", io::Encoding::Binary, {}, 0},
+                      {"m.vtu", io::Encoding::Binary, {}, 0},
+                      {"ma.vtu", io::Encoding::Ascii, {}, 0},
+                      {"m.stl", io::Encoding::Binary, {}, 0},
+                      {"ma.stl", io::Encoding::Ascii, {}, 0},
+                      {"m.obj", io::Encoding::Default, {}, 0},
+                      {"m.ply", io::Encoding::Binary, {}, 0},
                       {"ma.ply", io::Encoding::Ascii, {}, 0}};
   for (const Ext& e : exts) {
     SECTION(e.file) {
@@ -314,16 +350,18 @@ TEST_CASE("mesh formats: meshio reads every format it knows with the same counts
   }
 }
 
-TEST_CASE("mesh formats: Gmsh opens every .msh form with the same nodes, triangles, entities and groups",
-          "[io][mesh_formats]") {
+TEST_CASE(
+    "mesh formats: Gmsh opens every .msh form with the same nodes, triangles, entities and groups",
+    "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(4);
   const std::string physicals = dir.file("physicals.py");
-  std::ofstream(physicals) << "import sys, gmsh\ngmsh.initialize()\ngmsh.option.setNumber('General.Terminal', 0)\n"
-                              "gmsh.open(sys.argv[1])\n"
-                              "for d, t in gmsh.model.getPhysicalGroups():\n"
-                              "    print('@physical', d, t, gmsh.model.getPhysicalName(d, t))\n"
-                              "gmsh.finalize()\n";
+  std::ofstream(physicals)
+      << "import sys, gmsh\ngmsh.initialize()\ngmsh.option.setNumber('General.Terminal', 0)\n"
+         "gmsh.open(sys.argv[1])\n"
+         "for d, t in gmsh.model.getPhysicalGroups():\n"
+         "    print('@physical', d, t, gmsh.model.getPhysicalName(d, t))\n"
+         "gmsh.finalize()\n";
   struct Form {
     const char* file;
     io::Encoding enc;
@@ -331,12 +369,13 @@ TEST_CASE("mesh formats: Gmsh opens every .msh form with the same nodes, triangl
     long volumes;
     std::vector<std::string> groups;
   };
-  const std::vector<std::string> all = {"0 1 model_vertices", "1 1 model_edges", "2 1 x_walls", "2 2 unnamed_faces",
-                                       "3 1 cube"};
-  const Form forms[] = {{"g.msh", io::Encoding::Ascii, {}, 1, all},
-                        {"gb.msh", io::Encoding::Binary, {}, 1, all},
-                        // 2.2 has no volume entity without volume elements (see mesh_writer.h).
-                        {"g22.msh", io::Encoding::Default, io::MeshFormat::Msh22, 0, {all.begin(), all.end() - 1}}};
+  const std::vector<std::string> all = {"0 1 model_vertices", "1 1 model_edges", "2 1 x_walls",
+                                        "2 2 unnamed_faces", "3 1 cube"};
+  const Form forms[] = {
+      {"g.msh", io::Encoding::Ascii, {}, 1, all},
+      {"gb.msh", io::Encoding::Binary, {}, 1, all},
+      // 2.2 has no volume entity without volume elements (see mesh_writer.h).
+      {"g22.msh", io::Encoding::Default, io::MeshFormat::Msh22, 0, {all.begin(), all.end() - 1}}};
   for (const Form& f : forms) {
     SECTION(f.file) {
       const std::string path = write_as(dir, cube, f.file, f.enc, f.fmt);
@@ -362,7 +401,8 @@ TEST_CASE("mesh formats: Gmsh opens every .msh form with the same nodes, triangl
   }
 }
 
-TEST_CASE("mesh formats: the files Gmsh itself writes read back with the same counts", "[io][mesh_formats]") {
+TEST_CASE("mesh formats: the files Gmsh itself writes read back with the same counts",
+          "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(4);
   const std::string src = dir.file("src.msh");
@@ -372,8 +412,9 @@ TEST_CASE("mesh formats: the files Gmsh itself writes read back with the same co
     const char* flags;
     std::size_t segments;
   };
-  for (const Out& o : {Out{"g41.msh", "", 48}, Out{"g41b.msh", "-bin", 48}, Out{"g22.msh", "-format msh22", 48},
-                       Out{"g.mesh", "-format mesh", 48}, Out{"g.stl", "-format stl", 0}}) {
+  for (const Out& o :
+       {Out{"g41.msh", "", 48}, Out{"g41b.msh", "-bin", 48}, Out{"g22.msh", "-format msh22", 48},
+        Out{"g.mesh", "-format mesh", 48}, Out{"g.stl", "-format stl", 0}}) {
     SECTION(o.file) {
       const std::string path = dir.file(o.file);
       const Run g = run("gmsh " + quoted(src) + " -0 -save_all " + o.flags + " -o " + quoted(path));
@@ -405,9 +446,10 @@ TEST_CASE("mesh formats: TetGen tetrahedralizes the .poly and the .smesh", "[io]
       INFO(r.out);
       REQUIRE(r.status == 0);
       const std::string stem = dir.file(fs::path(name).stem().string());
-      const std::string ele = slurp(stem + ".1.ele"), node = slurp(stem + ".1.node"), face = slurp(stem + ".1.face");
+      const std::string ele = slurp(stem + ".1.ele"), node = slurp(stem + ".1.node"),
+                        face = slurp(stem + ".1.face");
       REQUIRE_FALSE(ele.empty());
-      CHECK(std::stol(ele) > 0);           // tetrahedra
+      CHECK(std::stol(ele) > 0);  // tetrahedra
       // No Steiner points: the surface nodes only.
       CHECK(std::stol(node) == static_cast<long>(cube.mesh.points.size()));
       // Boundary faces keep the markers (face id + 1) and the triangle count.
@@ -427,7 +469,8 @@ TEST_CASE("mesh formats: TetGen tetrahedralizes the .poly and the .smesh", "[io]
   }
 }
 
-TEST_CASE("mesh formats: draco_decoder decodes the .drc within the quantization error", "[io][mesh_formats]") {
+TEST_CASE("mesh formats: draco_decoder decodes the .drc within the quantization error",
+          "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(4);
   for (int bits : {11, 14, 16}) {
@@ -449,7 +492,8 @@ TEST_CASE("mesh formats: draco_decoder decodes the .drc within the quantization 
       const double half = 0.5 * draco_step(bits) * (1 + 1e-6);
       double worst = 0;
       for (const geom::Vec3& p : d.mesh.points) {
-        const geom::Vec3 q = cube.mesh.points[static_cast<std::size_t>(nearest(cube.mesh, p).first)];
+        const geom::Vec3 q =
+            cube.mesh.points[static_cast<std::size_t>(nearest(cube.mesh, p).first)];
         worst = std::max({worst, std::abs(p.x - q.x), std::abs(p.y - q.y), std::abs(p.z - q.z)});
       }
       INFO("worst coordinate error " << worst << ", half step " << half);
@@ -458,8 +502,9 @@ TEST_CASE("mesh formats: draco_decoder decodes the .drc within the quantization 
   }
 }
 
-TEST_CASE("mesh formats: .glb is glTF 2.0 with KHR_draco_mesh_compression, one mesh per solid or face",
-          "[io][mesh_formats]") {
+TEST_CASE(
+    "mesh formats: .glb is glTF 2.0 with KHR_draco_mesh_compression, one mesh per solid or face",
+    "[io][mesh_formats]") {
   TempDir dir("mesh_formats");
   const Cube cube = named_cube(3);
   for (io::GlbGroups groups : {io::GlbGroups::Solid, io::GlbGroups::Face}) {

@@ -3,7 +3,8 @@
 // tests can round-trip every format.
 //
 //   io::MeshReadResult r = io::read_mesh("part.msh");
-//   if (!r.ok) std::cerr << r.error << "\n";   // "part.msh: line 12: expected a node tag, found 'x'"
+//   if (!r.ok) std::cerr << r.error << "\n";   // "part.msh: line 12: expected a node tag, found
+//   'x'"
 //
 // Formats (by extension, or MeshReadOptions::format):
 //   .msh   Gmsh 4.1 ASCII and binary, Gmsh 2.2 ASCII

@@ -56,7 +56,21 @@
 
 namespace uvmesh::io {
 
-enum class MeshFormat { Msh41, Msh22, Medit, Meshb, Stl, Obj, Ply, Vtk, Vtu, Poly, Smesh, Drc, Glb };
+enum class MeshFormat {
+  Msh41,
+  Msh22,
+  Medit,
+  Meshb,
+  Stl,
+  Obj,
+  Ply,
+  Vtk,
+  Vtu,
+  Poly,
+  Smesh,
+  Drc,
+  Glb
+};
 
 /// The format for a file name's extension (case-insensitive): .msh .mesh .meshb .stl .obj
 /// .ply .vtk .vtu .poly .smesh .drc .glb. nullopt for any other extension or none.

@@ -28,10 +28,10 @@
 namespace uvmesh::io {
 
 struct CheckOptions {
-  int threads = 0;                  ///< 0 = all cores (self-intersections, chordal)
+  int threads = 0;  ///< 0 = all cores (self-intersections, chordal)
   bool self_intersections = true;
-  int max_list = 20;                ///< cap of every list in the report
-  double chordal_tolerance = 0.0;   ///< 0 = no bound to compare with
+  int max_list = 20;               ///< cap of every list in the report
+  double chordal_tolerance = 0.0;  ///< 0 = no bound to compare with
   /// With a model: edge lengths in the metric of these sizes (the unit mesh measure,
   /// DESIGN.md), each node's metric from its face's param::FaceSizeField. For a mesh of
   /// surface::mesh_model, the sizes it meshed with (its chordal tolerance divided by
@@ -58,7 +58,7 @@ struct CheckData {
   std::optional<std::size_t> free_edges_on_open_model_edges;
   std::optional<surface::IntersectionReport> intersections;
   surface::QualityReport quality;
-  double median_edge = 0;                 ///< 3D length of the median unique edge
+  double median_edge = 0;                  ///< 3D length of the median unique edge
   surface::EdgeLengthReport edge_lengths;  ///< lengths / median_edge (bins: check3d.h)
   /// Lengths in the size metric (CheckOptions::size); unit = in [1/sqrt2, sqrt2].
   std::optional<surface::EdgeLengthReport> metric_edge_lengths;
@@ -66,15 +66,16 @@ struct CheckData {
   std::optional<surface::ChordalReport> chordal;
   std::string chordal_unavailable;  ///< why chordal is not measured although a model was given
   double chordal_tolerance = 0;
-  Histogram q_histogram;       ///< q = 1/Q of every triangle, 20 bins on [0, 1]
-  Histogram angle_histogram;   ///< every triangle angle, 18 bins of 10 degrees
-  Histogram edge_histogram;    ///< edge length / median (log2 half-octave bins)
+  Histogram q_histogram;      ///< q = 1/Q of every triangle, 20 bins on [0, 1]
+  Histogram angle_histogram;  ///< every triangle angle, 18 bins of 10 degrees
+  Histogram edge_histogram;   ///< edge length / median (log2 half-octave bins)
 };
 
 /// Runs every check on m. With a model, chordal deviation is measured when the mesh
 /// carries (u,v) per triangle corner (attach_uv supplies them for a mesh read from a
 /// file) and its face ids name the model's faces.
-CheckData check_mesh(const surface::SurfaceMesh& m, const geom::Model* model, const CheckOptions& opt = {});
+CheckData check_mesh(const surface::SurfaceMesh& m, const geom::Model* model,
+                     const CheckOptions& opt = {});
 
 /// The report of check_mesh as JSON (see the file comment for the sections).
 nlohmann::json report_json(const CheckData& d);
