@@ -125,3 +125,29 @@ TEST_CASE("check: a corrupt or truncated mesh gives one clear error and exit 2",
     CHECK_THAT(s.err, Catch::StartsWith("uvmesh: error: ") && Catch::Contains(b.expect));
   }
 }
+
+TEST_CASE("mesh: the output flags pick the format, the encoding and Draco's settings",
+          "[io][check][cli]") {
+  TempDir dir("check_cli");
+  auto mesh = [&](const std::string& out, const std::string& flags) {
+    const Split s = run_split(dir, quoted(kExe) + " mesh " + quoted(kBracket) + " -o " +
+                                       quoted(dir.file(out)) + " -q --threads 1 " + flags);
+    INFO(out << " " << flags << ": " << s.err);
+    CHECK(s.status == 0);
+    return dir.file(out);
+  };
+  CHECK(slurp(mesh("a.msh", "--format msh22")).rfind("$MeshFormat\n2.2 0 8\n", 0) == 0);
+  CHECK(slurp(mesh("b.msh", "--binary")).rfind("$MeshFormat\n4.1 1 8\n", 0) == 0);
+  CHECK(slurp(mesh("c.stl", "--ascii")).rfind("solid uvmesh", 0) == 0);
+  CHECK(slurp(mesh("d.txt", "--format obj")).rfind("# uvmesh", 0) == 0);
+  const auto small = fs::file_size(mesh("e.drc", "--draco-bits 11 --draco-level 10"));
+  const auto large = fs::file_size(mesh("f.drc", "--draco-bits 16 --draco-level 0"));
+  CHECK(small < large);
+  CHECK(slurp(mesh("g.glb", "--glb-per-face")).find("\"face_25\"") != std::string::npos);
+  // A format without an ASCII form is a clear error, and nothing is written.
+  const Split bad = run_split(dir, quoted(kExe) + " mesh " + quoted(kBracket) + " -o " +
+                                       quoted(dir.file("h.drc")) + " -q --ascii");
+  CHECK(bad.status == 4);
+  CHECK_THAT(bad.err, Catch::Contains("drc has no ASCII form"));
+  CHECK_FALSE(fs::exists(dir.file("h.drc")));
+}
