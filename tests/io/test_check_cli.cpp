@@ -3,8 +3,10 @@
 // both); SVG pictures; corrupt and truncated files give one clear error and exit 2.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "mesh_test_util.h"
+#include "uvmesh/io/mesh_reader.h"
 
 using namespace uvmesh_test;
 
@@ -150,4 +152,29 @@ TEST_CASE("mesh: the output flags pick the format, the encoding and Draco's sett
   CHECK(bad.status == 4);
   CHECK_THAT(bad.err, Catch::Contains("drc has no ASCII form"));
   CHECK_FALSE(fs::exists(dir.file("h.drc")));
+}
+
+TEST_CASE("mesh: STEP face names become .msh physical groups", "[io][check][cli]") {
+  // CAx-IF's dm1 assembly names 24 of its faces (F1..F7 per part) in the STEP entities.
+  TempDir dir("check_cli");
+  const std::string model = std::string(UVMESH_SHARED_DATA) + "/cad/caxif_dm1_id.stp";
+  const std::string msh = dir.file("dm1.msh");
+  const Split s = run_split(dir, quoted(kExe) + " mesh " + quoted(model) + " -o " + quoted(msh) +
+                                     " -q --allow-holes --threads 1 --hmax-rel 0.2 --angle 60");
+  INFO(s.err);
+  REQUIRE(s.status == 0);
+  const io::MeshReadResult r = io::read_mesh(msh);
+  INFO(r.error);
+  REQUIRE(r.ok);
+  std::set<std::string> surface_groups;
+  std::size_t volume_groups = 0;
+  for (const auto& p : r.physicals) {
+    if (p.dim == 2) surface_groups.insert(p.name);
+    volume_groups += p.dim == 3;
+  }
+  for (const char* name : {"F1", "F2", "F3", "F4", "F5", "F6", "F7", "unnamed_faces"}) {
+    INFO(name);
+    CHECK(surface_groups.count(name) == 1);
+  }
+  CHECK(volume_groups == r.entities[3]);  // one group per solid
 }
