@@ -4,6 +4,7 @@
 // back through sigma and the mesh is improved in 3D.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -119,6 +120,11 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   std::vector<NodeId> gid;      // PSLG point -> global node
   std::vector<geom::Id> pedge;  // PSLG point -> model edge (for messages)
   std::vector<geom::Id> sedge;  // PSLG segment -> model edge
+  // PSLG point -> curve parameters of the piece of its edge starting there (NaN for a
+  // pole), so that a crossing names the pieces to split (FaceMesh::refine_at).
+  std::vector<std::array<double, 2>> piece;
+  std::vector<std::array<double, 2>> spiece;  // PSLG segment -> its piece
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<const geom::EdgeUse*> embedded;  // INTERNAL uses: open chains, added last
   for (const geom::Loop& loop : f.loops) {
     const auto start = static_cast<m2d::VertId>(in.points.size());
@@ -141,6 +147,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
           const geom::Vec2 p = use.pcurve->point(use.range.at(w));
           in.points.push_back({p.x, p.y});
           gid.push_back(node);
+          piece.push_back({nan, nan});
         }
       } else {
         const EdgeNodes& en = edges[static_cast<std::size_t>(use.edge)];
@@ -150,6 +157,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
           const geom::Vec2 p = use.pcurve->point(pcurve_param(e, use, en.t[k]));
           in.points.push_back({p.x, p.y});
           gid.push_back(en.node[k]);
+          piece.push_back({en.t[k], en.t[use.reversed ? k - 1 : k + 1]});
         }
       }
       for (std::size_t i = first; i < in.points.size(); ++i) pedge.push_back(use.edge);
@@ -164,6 +172,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       const bool pole = m.edges[static_cast<std::size_t>(ei)].degenerate;
       in.segments.push_back({i, j, pole ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
       sedge.push_back(ei);
+      spiece.push_back(piece[static_cast<std::size_t>(i)]);
     }
   }
   // Embedded edges: every node, ends included, and a segment per piece (no closing
@@ -180,9 +189,11 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       in.points.push_back({p.x, p.y});
       gid.push_back(en.node[k]);
       pedge.push_back(use->edge);
+      piece.push_back({en.t[k], k + 1 < en.t.size() ? en.t[k + 1] : nan});
     }
     for (m2d::VertId i = first; i + 1 < static_cast<m2d::VertId>(in.points.size()); ++i)
-      in.segments.push_back({i, i + 1, static_cast<int>(use->edge) + 1}), sedge.push_back(use->edge);
+      in.segments.push_back({i, i + 1, static_cast<int>(use->edge) + 1}), sedge.push_back(use->edge),
+          spiece.push_back(piece[static_cast<std::size_t>(i)]);
   }
   // One node, one (u,v) point per side: the pcurves of two edges meeting at a vertex end
   // a few ulps apart, and a loop touching the seam at a vertex would then put a point a
@@ -237,7 +248,11 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       const auto e0 = sedge[static_cast<std::size_t>(r.status.entities[0])];
       const auto e1 = sedge[static_cast<std::size_t>(r.status.entities[1])];
       msg = "the (u,v) curves of edges " + std::to_string(e0) + " and " + std::to_string(e1) + " cross (" + msg + ")";
-      out.refine_edges = {e0, e1};
+      for (int k = 0; k < 2; ++k) {
+        const auto sg = static_cast<std::size_t>(r.status.entities[static_cast<std::size_t>(k)]);
+        if (std::isfinite(spiece[sg][0]) && std::isfinite(spiece[sg][1]))
+          out.refine_at.push_back({sedge[sg], 0.5 * (spiece[sg][0] + spiece[sg][1])});
+      }
     }
     out.error = "2D mesher: " + msg;
     return out;

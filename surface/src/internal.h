@@ -95,8 +95,9 @@ struct FaceMesh {
   std::vector<std::array<NodeId, 3>> tris;
   std::vector<std::array<geom::Vec2, 3>> tri_uv;
   std::string error;  ///< non-empty: the face failed, with the reason
-  /// Edges whose (u,v) polylines crossed: refining them may let the face mesh.
-  std::vector<geom::Id> refine_edges;
+  /// Pieces of edges whose (u,v) polylines crossed: {edge, curve parameter of the
+  /// piece's midpoint}. Splitting them lets the polylines follow the pcurves closer.
+  std::vector<std::pair<geom::Id, double>> refine_at;
   FaceStats stats;
 };
 

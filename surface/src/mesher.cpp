@@ -61,6 +61,8 @@ double MeshResult::unit_edge_share() const {
 }
 
 MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
+  // Rounds of splitting edge pieces whose (u,v) polylines cross (each re-meshes the model).
+  constexpr int kCrossingRounds = 8;
   MeshResult res;
   const auto t_all = Clock::now();
   const int threads = opt.threads > 0 ? opt.threads : tbb::this_task_arena::max_concurrency();
@@ -271,13 +273,28 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     if (opt.progress) opt.progress(d, static_cast<int>(nf));
   });
   t_faces += seconds_since(t0);
-  std::set<geom::Id> refine;
-  for (const auto& F : fm) refine.insert(F.refine_edges.begin(), F.refine_edges.end());
-  if (refine.empty() || round == 3) break;
-  for (geom::Id e : refine)
-    if (!m.edges[static_cast<std::size_t>(e)].degenerate) split_edge(static_cast<std::size_t>(e));
+  // Only the crossing pieces are split (each round halves them), so that two pcurves
+  // meeting at a small angle get nodes close enough to the vertex to part before it
+  // without refining the whole edge 2^rounds times. (Splitting whole edges, as before,
+  // made new crossings elsewhere on occt_turbine; on occt_caxif_b1 it happened to clear
+  // two faces that pieces alone do not.)
+  std::set<std::pair<geom::Id, double>> refine;
+  for (const auto& F : fm) refine.insert(F.refine_at.begin(), F.refine_at.end());
+  if (refine.empty() || round == kCrossingRounds) break;
+  std::set<geom::Id> touched;
+  for (const auto& [e, t] : refine) {
+    const auto ei = static_cast<std::size_t>(e);
+    if (m.edges[ei].degenerate) continue;
+    auto& ts = edges[ei].t;
+    const auto it = std::lower_bound(ts.begin(), ts.end(), t);
+    if (it == ts.begin() || it == ts.end() || *it == t) continue;
+    ts.insert(it, t);
+    touched.insert(e);
+  }
+  if (touched.empty()) break;
   res.warnings.push_back("round " + std::to_string(round + 1) + ": " + std::to_string(refine.size()) +
-                         " edge(s) refined where (u,v) boundaries crossed; model meshed again");
+                         " piece(s) of " + std::to_string(touched.size()) +
+                         " edge(s) split where (u,v) boundaries crossed; model meshed again");
   }
   res.stages.push_back({"faces", t_faces});
 
