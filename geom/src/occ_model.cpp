@@ -208,6 +208,63 @@ std::string check_reason(const BRepCheck_Analyzer& an, const TopoDS_Face& f) {
   return "invalid (BRepCheck)";
 }
 
+// The pcurve of one use of a seam edge, to compare with the other use's.
+struct SeamPcurve {
+  std::size_t loop, use;
+  Handle(Geom2d_Curve) c;
+};
+
+// Some files give both uses of a seam edge the same pcurve (a doubly periodic surface
+// of revolution in dagmc_ball_reactor: both uses of the u-seam at u = 0, both of the
+// v-seam at v = vmax), so the loop encloses nothing. The face's loop must run
+// counter-clockwise: on a seam at constant u, the use going up (v increasing) is the
+// right side and the one going down the left side; on a seam at constant v, the use
+// going in +u is the bottom side. The use on the wrong side is moved by the period.
+void fix_coincident_seams(Face& fc, const std::vector<SeamPcurve>& pcs) {
+  if (!fc.surface) return;
+  for (std::size_t i = 0; i < pcs.size(); ++i)
+    for (std::size_t j = i + 1; j < pcs.size(); ++j) {
+      EdgeUse& a = fc.loops[pcs[i].loop].uses[pcs[i].use];
+      EdgeUse& b = fc.loops[pcs[j].loop].uses[pcs[j].use];
+      if (a.edge != b.edge) continue;
+      const Vec2 ma = a.pcurve->point(a.range.mid()), mb = b.pcurve->point(b.range.mid());
+      const Box2 box = fc.surface->bounds();
+      const double ext = std::max({box.u.length(), box.v.length(), 1e-300});
+      if (glm::length(ma - mb) > 1e-9 * ext) continue;
+      const Vec2 d = a.pcurve->point(a.range.hi) - a.pcurve->point(a.range.lo);
+      const bool along_v = std::abs(d.y) > std::abs(d.x);  // a seam at constant u
+      const Interval side = along_v ? box.u : box.v;
+      // The period, or for a surface closed but not periodic in that direction (the
+      // revolution of a closed B-spline profile) the parameter range, once its two
+      // sides are checked to be one curve in space.
+      double period = along_v ? fc.surface->u_period() : fc.surface->v_period();
+      if (!(along_v ? fc.surface->u_periodic() : fc.surface->v_periodic()) || !(period > 0)) {
+        period = side.length();
+        const Interval other = along_v ? box.v : box.u;
+        bool closed = period > 0;
+        for (double w : {0.25, 0.5, 0.75}) {
+          const double o = other.at(w);
+          const Vec3 p0 = along_v ? fc.surface->point(side.lo, o) : fc.surface->point(o, side.lo);
+          const Vec3 p1 = along_v ? fc.surface->point(side.hi, o) : fc.surface->point(o, side.hi);
+          closed = closed && glm::length(p1 - p0) <= std::max(10 * fc.tol, 1e-9);
+        }
+        if (!closed) continue;
+      }
+      // Direction of each use in traversal order along the seam.
+      const double sa = (along_v ? d.y : d.x) * (a.reversed ? -1 : 1);
+      const double at = along_v ? ma.x : ma.y;
+      const bool at_low = std::abs(at - side.lo) <= std::abs(at - side.hi);
+      // along_v: the up-going use is the high side; along u: the +u use is the low side.
+      const bool a_high = along_v ? sa > 0 : sa < 0;
+      EdgeUse& mv = at_low ? (a_high ? a : b) : (a_high ? b : a);
+      const SeamPcurve& pc = &mv == &a ? pcs[i] : pcs[j];
+      const double shift = at_low ? period : -period;
+      const gp_Vec2d t = along_v ? gp_Vec2d(shift, 0.0) : gp_Vec2d(0.0, shift);
+      Handle(Geom2d_Curve) moved = Handle(Geom2d_Curve)::DownCast(pc.c->Translated(t));
+      if (!moved.IsNull()) mv.pcurve = std::make_shared<OccCurve2>(moved, mv.range.lo, mv.range.hi);
+    }
+}
+
 }  // namespace
 
 Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
@@ -269,6 +326,7 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
         fc.surface = std::move(s);
       }
       const TopoDS_Wire outer = BRepTools::OuterWire(ff);
+      std::vector<SeamPcurve> seam_pc;
       for (TopoDS_Iterator wit(ff); wit.More(); wit.Next()) {
         if (wit.Value().ShapeType() != TopAbs_WIRE) continue;
         const TopoDS_Wire w = TopoDS::Wire(wit.Value());
@@ -305,11 +363,13 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
           double f = 0.0, l = 0.0;
           Handle(Geom2d_Curve) c2 = BRep_Tool::CurveOnSurface(e, ff, f, l);
           if (!c2.IsNull()) u.pcurve = std::make_shared<OccCurve2>(c2, f, l);
+          if (u.seam && !c2.IsNull()) seam_pc.push_back({fc.loops.size(), loop.uses.size(), c2});
           u.range = {f, l};
           loop.uses.push_back(std::move(u));
         }
         fc.loops.push_back(std::move(loop));
       }
+      fix_coincident_seams(fc, seam_pc);
       std::stable_sort(fc.loops.begin(), fc.loops.end(),
                        [](const Loop& a, const Loop& b) { return a.outer && !b.outer; });
       if (opt.check_validity) {
