@@ -4,6 +4,7 @@
 #include "uvmesh/io/report.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -163,6 +164,39 @@ nlohmann::json edge_length_json(const surface::EdgeLengthReport& r) {
           {"count", r.bin_count}};
 }
 
+std::vector<CheckData::SolidTopology> solid_topology(const SurfaceMesh& m, const geom::Model& model) {
+  std::vector<CheckData::SolidTopology> out;
+  for (std::size_t s = 0; s < model.solids.size(); ++s) {
+    CheckData::SolidTopology st;
+    st.solid = static_cast<geom::Id>(s);
+    st.closed = true;
+    std::vector<char> in(model.faces.size(), 0);
+    for (geom::Id sh : model.solids[s].shells) {
+      if (sh < 0 || static_cast<std::size_t>(sh) >= model.shells.size()) continue;
+      st.closed = st.closed && model.shells[static_cast<std::size_t>(sh)].closed;
+      for (geom::Id f : model.shells[static_cast<std::size_t>(sh)].faces)
+        if (f >= 0 && static_cast<std::size_t>(f) < in.size()) in[static_cast<std::size_t>(f)] = 1;
+    }
+    std::map<std::pair<NodeId, NodeId>, int> count;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      const geom::Id f = t < m.triangle_face.size() ? m.triangle_face[t] : geom::kNone;
+      if (f < 0 || static_cast<std::size_t>(f) >= in.size() || !in[static_cast<std::size_t>(f)]) continue;
+      ++st.triangles;
+      const auto& tri = m.triangles[t];
+      for (int i = 0; i < 3; ++i) {
+        const NodeId a = tri[static_cast<std::size_t>(i)], b = tri[static_cast<std::size_t>((i + 1) % 3)];
+        ++count[{std::min(a, b), std::max(a, b)}];
+      }
+    }
+    for (const auto& [k, c] : count) {
+      if (c == 1) ++st.free_edges;
+      if (c > 2) ++st.non_manifold_edges;
+    }
+    out.push_back(st);
+  }
+  return out;
+}
+
 nlohmann::json histogram_json(const Histogram& h) {
   return {{"bin_lo", h.lo}, {"hi", h.hi}, {"count", h.count}};
 }
@@ -180,6 +214,7 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
   const EdgeTable e = edge_table(m);
   d.components = components(m, e);
   if (model) d.free_edges_on_open_model_edges = free_on_open_model_edges(m, *model, e);
+  if (model) d.solids = solid_topology(m, *model);
   if (opt.self_intersections)
     d.intersections = surface::find_self_intersections(m, opt.max_list, opt.threads);
   d.quality = surface::measure_quality(m, opt.max_list);
@@ -293,6 +328,17 @@ nlohmann::json report_json(const CheckData& d) {
   topo["inconsistent_list"] = edge_list(t.inconsistent_list);
   if (d.free_edges_on_open_model_edges)
     topo["free_edges_on_open_model_edges"] = *d.free_edges_on_open_model_edges;
+  if (!d.solids.empty()) {
+    nlohmann::json so = nlohmann::json::array();
+    std::size_t bad = 0;
+    for (const auto& s : d.solids) {
+      so.push_back({{"solid", s.solid}, {"closed", s.closed}, {"triangles", s.triangles},
+                    {"free_edges", s.free_edges}, {"non_manifold_edges", s.non_manifold_edges}});
+      bad += s.closed && (s.free_edges > 0 || s.non_manifold_edges > 0);
+    }
+    topo["solids"] = so;
+    topo["closed_solids_not_watertight"] = bad;
+  }
   if (d.intersections) {
     topo["self_intersections"] = d.intersections->intersecting_pairs;
     nlohmann::json pairs = nlohmann::json::array();

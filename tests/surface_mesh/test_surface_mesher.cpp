@@ -11,6 +11,7 @@
 #include <string>
 
 #include "uvmesh/io/cad_reader.h"
+#include "uvmesh/io/report.h"
 #include "uvmesh/surface/check3d.h"
 #include "uvmesh/surface/mesher.h"
 
@@ -96,6 +97,20 @@ TEST_CASE("surface mesher: two cubes sharing a face (non-manifold interface)", "
   CHECK(t.free_edges == 0);
   CHECK(t.degenerate_triangles == 0);
   CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);
+  // The interface's edges carry three faces in the whole mesh, but each solid on its
+  // own is closed and manifold (the report's per-solid topology).
+  CHECK(t.non_manifold_edges > 0);
+  io::CheckOptions co;
+  co.self_intersections = false;
+  co.threads = 1;
+  const io::CheckData d = io::check_mesh(r.mesh, &m, co);
+  REQUIRE(d.solids.size() == 2);
+  for (const auto& s : d.solids) {
+    CHECK(s.closed);
+    CHECK(s.triangles > 0);
+    CHECK(s.free_edges == 0);
+    CHECK(s.non_manifold_edges == 0);
+  }
 }
 
 TEST_CASE("surface mesher: seam with an inner loop touching it (gmsh_cyl_loop_seam)", "[surface]") {

@@ -56,6 +56,16 @@ struct CheckData {
   /// Free mesh edges lying on model edges used by at most one face (open shells: expected);
   /// set only with a model.
   std::optional<std::size_t> free_edges_on_open_model_edges;
+  /// Per solid of the model (with a model): the triangles of the faces of its shells,
+  /// checked on their own. In a conforming assembly an interface face bounds two solids
+  /// and its edges are non-manifold in the whole mesh, yet every solid must be closed and
+  /// manifold by itself (what a volume mesher meshing it needs).
+  struct SolidTopology {
+    geom::Id solid = geom::kNone;
+    bool closed = false;  ///< every shell of the solid is closed in the model
+    std::size_t triangles = 0, free_edges = 0, non_manifold_edges = 0;
+  };
+  std::vector<SolidTopology> solids;
   std::optional<surface::IntersectionReport> intersections;
   surface::QualityReport quality;
   double median_edge = 0;                  ///< 3D length of the median unique edge
