@@ -1016,6 +1016,11 @@ void read_ply(const std::string& data, MeshReadResult& r) {
           if (is_vertex && pr.name == "y") p.y = v;
           if (is_vertex && pr.name == "z") p.z = v;
           if (is_face && pr.name == "face_id") {
+            // Checked before the cast: a double beyond int's range converts with
+            // undefined behaviour (fuzz_mesh_ply found 2e24).
+            if (!(v >= 0 && v <= std::numeric_limits<geom::Id>::max() && v == std::floor(v)))
+              fail(where() + ": face_id " + std::to_string(v) + " is not a face number (0 to " +
+                   std::to_string(std::numeric_limits<geom::Id>::max()) + ")");
             face = static_cast<geom::Id>(v);
             r.has_face_ids = true;
           }

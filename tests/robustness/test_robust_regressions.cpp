@@ -7,6 +7,7 @@
 #include <string>
 
 #include "uvmesh/geom/subd.h"
+#include "uvmesh/io/mesh_reader.h"
 #include "uvmesh/mesher2d/check.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 #include "uvmesh2d/poly.h"
@@ -42,7 +43,7 @@ void mesher2d_finding(const std::string& file, double h) {
   uvmesh::m2d::CheckOptions co;
   co.seeds = false;
   const uvmesh::m2d::CheckReport rep = uvmesh::m2d::check(r.mesh, pr.poly.pslg, co);
-  INFO((rep.ok() ? std::string("checker: ok") : "checker: " + rep.errors.front()));
+  INFO("checker: " << (rep.ok() ? std::string("ok") : rep.errors.front()));
   CHECK_NOFAIL(rep.ok());
 }
 
@@ -94,4 +95,39 @@ TEST_CASE("robust: mesher2d with duplicate points and degenerate segments (fuzz 
 
 TEST_CASE("robust: mesher2d with a node inside a segment, overlapping segments (fuzz finding 2)", "[robust][mesher2d]") {
   mesher2d_finding("fuzz_mesher2d_overlapping_segments.poly", 0.37);
+}
+
+// fuzz_obj_cage finding: OpenSubdiv 3.5 (Debian's libosdCPU) reads out of bounds in
+// Vtr::internal::Level::findEdge while building the topology of this cage under
+// Catmull-Clark with edge-only boundary interpolation: a 7-gon that uses vertex 1 three
+// times (twice in a row) and the edge 1-4 twice, next to a triangle. The crash is inside
+// OpenSubdiv, reached through geom/src/subd_model.cpp (model_from_cage), not the OBJ
+// reader: the cage parses. Hidden ([.]) because it crashes the test process (a SEGV under
+// ASan); run it by name to see whether a fix in subd_model.cpp rejects it first.
+TEST_CASE("robust: OBJ cage that crashes OpenSubdiv's findEdge (fuzz finding 3)", "[.][robust][subd]") {
+  const uvmesh::geom::SubdCageResult c = uvmesh::geom::read_obj_cage(data_file("fuzz_osd_findedge_crash.obj"));
+  REQUIRE(c.ok);
+  uvmesh::geom::SubdOptions o;
+  o.scheme = uvmesh::geom::SubdScheme::CatmullClark;
+  o.boundary = uvmesh::geom::SubdBoundary::EdgeOnly;
+  const uvmesh::geom::SubdModelResult m = uvmesh::geom::model_from_cage(c.cage, o);
+  CHECK_FALSE(m.ok);  // a clear error is the expected outcome once fixed
+}
+
+TEST_CASE("robust: a PLY face_id beyond int's range is an error, not undefined behaviour (fuzz_mesh_ply)", "[robust][io]") {
+  // The double was cast to int unchecked (UBSan: "2.00001e+24 is outside the range of
+  // representable values of type 'int'").
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nproperty double face_id\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n";
+  for (const char* id : {"2e24", "-3", "1.5", "nan"}) {
+    INFO(id);
+    const auto r = uvmesh::io::read_mesh_data(head + "3 0 1 2 " + id + "\n", uvmesh::io::MeshFormat::Ply, "f.ply");
+    CHECK_FALSE(r.ok);
+    CHECK_THAT(r.error, Catch::StartsWith("f.ply: line 14: "));
+  }
+  const auto ok = uvmesh::io::read_mesh_data(head + "3 0 1 2 7\n", uvmesh::io::MeshFormat::Ply, "f.ply");
+  REQUIRE(ok.ok);
+  CHECK(ok.mesh.triangle_face == std::vector<uvmesh::geom::Id>{7});
 }
