@@ -9,7 +9,6 @@
 #include <sstream>
 
 #include "internal.h"
-#include "uvmesh/geom/analytic.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 
 namespace uvmesh::surface::detail {
@@ -127,42 +126,8 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   std::vector<std::array<double, 2>> spiece;  // PSLG segment -> its piece
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<const geom::EdgeUse*> embedded;  // INTERNAL uses: open chains, added last
-  std::vector<char> ppole;                     // PSLG point -> starts a collapsed side
-  // Ends of a use in traversal order: (u,v) and global node.
-  auto use_end = [&](const geom::EdgeUse& u, bool at_start, geom::Vec2& uv) {
-    const bool lo = at_start != u.reversed;
-    uv = u.pcurve->point(lo ? u.range.lo : u.range.hi);
-    const EdgeNodes& en = edges[static_cast<std::size_t>(u.edge)];
-    return lo ? en.node.front() : en.node.back();
-  };
-  // A surface closed at a pole without a degenerate edge there (a surface of revolution
-  // whose seam runs from pole to pole, as OCC makes some): consecutive uses then end and
-  // start at the same node but at two (u,v) points along the collapsed side. That side is
-  // added as a pole would be: points along it, all mapping to the node.
-  const double uv_ext = std::max({f.uv_box.u.length(), f.uv_box.v.length(), 1e-300});
-  auto bridge = [&](const geom::Vec2& a, const geom::Vec2& b, NodeId node, geom::Id ei) {
-    if (glm::length(b - a) <= 1e-6 * uv_ext || node < 0) return;
-    const geom::Vec3 P = node_points[static_cast<std::size_t>(node)];
-    const geom::Vec2 mid = 0.5 * (a + b);
-    const double tol3 = 1e-7 * std::max(m.bbox.diagonal(), 1e-300);
-    if (glm::length(s.point(mid.x, mid.y) - P) > tol3) return;  // not a collapsed side
-    geom::EdgeUse side;
-    side.pcurve = geom::make_line2(a, b - a, {0.0, 1.0});
-    side.range = {0.0, 1.0};
-    const int k = pole_segments(side, s, field, f.uv_box);
-    for (int i = 0; i < k; ++i) {
-      const geom::Vec2 p = a + (double(i) / k) * (b - a);
-      in.points.push_back({p.x, p.y});
-      gid.push_back(node);
-      piece.push_back({nan, nan});
-      pedge.push_back(ei);
-      ppole.push_back(1);
-    }
-  };
   for (const geom::Loop& loop : f.loops) {
     const auto start = static_cast<m2d::VertId>(in.points.size());
-    const geom::EdgeUse* prev = nullptr;
-    const geom::EdgeUse* first_use = nullptr;
     for (const geom::EdgeUse& use : loop.uses) {
       if (use.internal) {
         embedded.push_back(&use);
@@ -173,13 +138,6 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
         out.error = "edge " + std::to_string(use.edge) + " has no (u,v) curve on this face";
         return out;
       }
-      if (prev) {
-        geom::Vec2 a, b;
-        const NodeId na = use_end(*prev, false, a), nb = use_end(use, true, b);
-        if (na == nb) bridge(a, b, na, prev->edge);
-      }
-      prev = &use;
-      if (!first_use) first_use = &use;
       const std::size_t first = in.points.size();
       if (e.degenerate) {
         const int k = pole_segments(use, s, field, f.uv_box);
@@ -202,12 +160,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
           piece.push_back({en.t[k], en.t[use.reversed ? k - 1 : k + 1]});
         }
       }
-      for (std::size_t i = first; i < in.points.size(); ++i) pedge.push_back(use.edge), ppole.push_back(e.degenerate);
-    }
-    if (prev && first_use) {
-      geom::Vec2 a, b;
-      const NodeId na = use_end(*prev, false, a), nb = use_end(*first_use, true, b);
-      if (na == nb) bridge(a, b, na, prev->edge);
+      for (std::size_t i = first; i < in.points.size(); ++i) pedge.push_back(use.edge);
     }
     const auto end = static_cast<m2d::VertId>(in.points.size());
     if (end == start) continue;  // a wire holding only embedded edges
@@ -216,7 +169,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       // Marker edge id + 1; negative on a pole's collapsed side, which must not impose
       // its (u,v) length as a size (Options::boundary_gradation).
       const geom::Id ei = pedge[static_cast<std::size_t>(i)];
-      const bool pole = ppole[static_cast<std::size_t>(i)] != 0;
+      const bool pole = m.edges[static_cast<std::size_t>(ei)].degenerate;
       in.segments.push_back({i, j, pole ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
       sedge.push_back(ei);
       spiece.push_back(piece[static_cast<std::size_t>(i)]);
@@ -236,7 +189,6 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       in.points.push_back({p.x, p.y});
       gid.push_back(en.node[k]);
       pedge.push_back(use->edge);
-      ppole.push_back(0);
       piece.push_back({en.t[k], k + 1 < en.t.size() ? en.t[k + 1] : nan});
     }
     for (m2d::VertId i = first; i + 1 < static_cast<m2d::VertId>(in.points.size()); ++i)
