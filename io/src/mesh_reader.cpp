@@ -221,6 +221,15 @@ std::size_t bounded(std::int64_t n) {
   return static_cast<std::size_t>(std::clamp<std::int64_t>(n, 0, 1 << 20));
 }
 
+// A number read from a file, for a message: the shortest form that reads back the same
+// (std::to_chars). Not a cast to an integer: a value beyond long long's range would make
+// that cast undefined (fuzz_mesh_ply: a PLY vertex index of 8.9e19).
+std::string shortest(double v) {
+  char buf[32];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
 geom::Id entity_id(std::int64_t tag) {
   return tag >= 1 ? static_cast<geom::Id>(tag - 1) : 0;
 }
@@ -1004,8 +1013,7 @@ void read_ply(const std::string& data, MeshReadResult& r) {
             const double v = ply_value(pr.type, tp, bp);
             if (is_face && (pr.name == "vertex_indices" || pr.name == "vertex_index")) {
               if (!(v >= 0 && v < static_cast<double>(m.points.size())))
-                fail(where() + ": vertex index " + std::to_string(static_cast<long long>(v)) +
-                     " out of range");
+                fail(where() + ": vertex index " + shortest(v) + " out of range");
               poly.push_back(static_cast<NodeId>(v));
             }
           }
@@ -1019,7 +1027,7 @@ void read_ply(const std::string& data, MeshReadResult& r) {
             // Checked before the cast: a double beyond int's range converts with
             // undefined behaviour (fuzz_mesh_ply found 2e24).
             if (!(v >= 0 && v <= std::numeric_limits<geom::Id>::max() && v == std::floor(v)))
-              fail(where() + ": face_id " + std::to_string(v) + " is not a face number (0 to " +
+              fail(where() + ": face_id " + shortest(v) + " is not a face number (0 to " +
                    std::to_string(std::numeric_limits<geom::Id>::max()) + ")");
             face = static_cast<geom::Id>(v);
             r.has_face_ids = true;

@@ -131,3 +131,15 @@ TEST_CASE("robust: a PLY face_id beyond int's range is an error, not undefined b
   REQUIRE(ok.ok);
   CHECK(ok.mesh.triangle_face == std::vector<uvmesh::geom::Id>{7});
 }
+
+TEST_CASE("robust: a PLY vertex index beyond long long's range is reported without a cast (fuzz_mesh_ply)", "[robust][io]") {
+  // The message cast the double index to long long (UBSan: "8.88889e+19 is outside the
+  // range of representable values of type 'long long'").
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 1\nproperty list uchar double vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 8.88889e19\n";
+  const auto r = uvmesh::io::read_mesh_data(ply, uvmesh::io::MeshFormat::Ply, "f.ply");
+  CHECK_FALSE(r.ok);
+  CHECK(r.error == "f.ply: line 13: vertex index 8.88889e+19 out of range");
+}
