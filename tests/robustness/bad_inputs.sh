@@ -94,7 +94,10 @@ done
 [ "$n_bad" -ge 11 ] || fail "expected the 11 corpus files in $bad, found $n_bad"
 
 # Malformed subdivision cages and .poly domains (ours, in data/).
-for f in "$here"/data/obj_*.obj; do
+# An empty cage is made here (an empty file in the repository would look like a copy of
+# the corpus' own empty files).
+: > "$tmp/obj_empty.obj"
+for f in "$here"/data/obj_*.obj "$tmp/obj_empty.obj"; do
   expect_rejected "mesh $(basename "$f")" "$f" "$tmp/o" "$uvmesh" mesh "$f" -o "$tmp/o/out.msh" --threads 2
 done
 for f in "$here"/data/poly_*.poly; do
