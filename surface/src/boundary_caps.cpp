@@ -80,14 +80,26 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
 
 double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent,
                          double h) const {
-  double best = h, prox = h;
+  double best = h, prox = h, at_vertex = h;
   const double g = beta_ - 1.0;
+  const EdgePoly& self = poly_[static_cast<std::size_t>(e)];
   for (geom::Id f : edge_faces_[static_cast<std::size_t>(e)])
     for (geom::Id oe : face_edges_[static_cast<std::size_t>(f)]) {
       // The edge itself: its own 1D gradation already holds along it, and its nodes
       // near x lie along the tangent (proximity would reject them anyway).
       if (oe == e) continue;
       const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
+      // Below hmin, gradation comes only through a vertex the two edges share. An edge
+      // refined below hmin by proximity (a narrow gap) that ends on a coarse edge makes a
+      // jump of 50x there, and the triangles at the joint are caps. Graded from the shared
+      // node, the coarse edge takes O(log) extra nodes. Graded from every sub-hmin node
+      // (of the face, or even of the adjacent edges only), the small sizes spread into
+      // tangential contacts and acute corners, where they only multiply the slivers across
+      // sub-floor gaps (measured: 4x more Q > 3 triangles on gmsh_t20_part, gmsh_ujoint).
+      if (g > 0 && !self.p.empty())
+        for (std::size_t i : {std::size_t(0), P.p.size() - 1})
+          if (glm::length(P.p[i] - self.p.front()) <= eps_ || glm::length(P.p[i] - self.p.back()) <= eps_)
+            at_vertex = std::min(at_vertex, P.h[i] + g * glm::length(x - P.p[i]));
       // A node p can lower the size at x only if h(p) + g |x - p| < best; a segment only
       // if it is closer than best.
       const double reach = std::max(prox, g > 0 ? (best - P.hmin) / g : 0.0);
@@ -138,7 +150,7 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
       }
     }
   // The gradation cap stops at hmin, the proximity cap at hmin / 100 (never above h).
-  return std::min({h, std::max(best, floor_), std::max(prox, prox_floor_)});
+  return std::min({h, std::max(best, floor_), std::max(at_vertex, prox_floor_), std::max(prox, prox_floor_)});
 }
 
 }  // namespace uvmesh::surface::detail

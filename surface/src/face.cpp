@@ -234,7 +234,43 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
 
   // ---- mesher2d under M_uv = J^T M3 J (the field interpolates M3 on a background grid).
   UvMetricGrid grid(field, f.uv_box);
-  const m2d::SizeSpec size = m2d::SizeSpec::aniso([&](double u, double v) { return grid(u, v); });
+  // mesher2d starts from the Delaunay triangulation of the boundary in its own
+  // coordinates and refines under the metric from there (§7.6.1). Where the (u,v) metric
+  // is strongly anisotropic as a whole -- an angle parameter times a radius against a
+  // length, a thin band of a cylinder -- that first triangulation is made of fans of long
+  // edges running along the boundary, every point sampled on them is too close to the
+  // boundary, and the fans stay (nist_ftc_11 face 2: metric Q 590). So v is scaled by
+  // k = mean(sqrt m22) / mean(sqrt m11) over the face, which makes the metric isotropic
+  // on average; the metric is transformed accordingly (M' = S^-T M S^-1, S = diag(1, k))
+  // and the vertices are scaled back.
+  // Not on faces with a pole: there the metric is singular (sqrt m11 -> 0 at a cone's
+  // apex), the mean says little, and the fans at the pole's run of (u,v) points are what
+  // the pole handling below expects (scaled, occt_cone_catia got a fold at its apex).
+  double vscale = 1.0;
+  bool has_pole = false;
+  for (const geom::Loop& loop : f.loops)
+    for (const geom::EdgeUse& use : loop.uses)
+      has_pole = has_pole || (use.edge >= 0 && m.edges[static_cast<std::size_t>(use.edge)].degenerate);
+  if (!has_pole) {
+    double lu = 0, lv = 0;
+    int n = 0;
+    for (int i = 0; i <= 8; ++i)
+      for (int j = 0; j <= 8; ++j) {
+        const m2d::Metric2 g = grid(f.uv_box.u.at((i + 0.5) / 9.5), f.uv_box.v.at((j + 0.5) / 9.5));
+        if (!(g.m11 > 0) || !(g.m22 > 0) || !std::isfinite(g.m11) || !std::isfinite(g.m22)) continue;
+        lu += 0.5 * std::log(g.m11), lv += 0.5 * std::log(g.m22), ++n;
+      }
+    if (n > 0) {
+      const double k = std::exp((lv - lu) / n);
+      if (std::isfinite(k) && std::abs(std::log(k)) > std::log(1.5)) vscale = std::clamp(k, 1e-6, 1e6);
+    }
+  }
+  const std::vector<m2d::Vec2> uv_in = in.points;
+  for (auto& p : in.points) p.y *= vscale;
+  const m2d::SizeSpec size = m2d::SizeSpec::aniso([&](double u, double v) {
+    const m2d::Metric2 g = grid(u, v / vscale);
+    return m2d::Metric2{g.m11, g.m12 / vscale, g.m22 / (vscale * vscale)};
+  });
   m2d::Options o;
   o.split_segments = false;          // edge nodes are owned by the model edges
   o.domain_from_orientation = true;  // outer loop CCW, holes CW in (u,v)
@@ -273,7 +309,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   for (std::size_t i = 0; i < in.points.size(); ++i) {
     const m2d::VertId v = mm.input_vertex[i];
     if (v == m2d::kNone) {
-      out.error = "boundary node at " + fmt_uv({in.points[i].x, in.points[i].y}) + " of edge " +
+      out.error = "boundary node at " + fmt_uv({uv_in[i].x, uv_in[i].y}) + " of edge " +
                   std::to_string(pedge[i]) + " lies outside the face's (u,v) domain (loop orientation?)";
       return out;
     }
@@ -281,7 +317,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     if (lm.global[vi] >= 0 && lm.global[vi] != gid[i]) {
       out.error = "nodes " + std::to_string(lm.global[vi]) + " and " + std::to_string(gid[i]) +
                   " (edges " + std::to_string(pedge[i]) + ") coincide in (u,v) at " +
-                  fmt_uv({in.points[i].x, in.points[i].y});
+                  fmt_uv({uv_in[i].x, uv_in[i].y});
       return out;
     }
     lm.global[vi] = gid[i];
@@ -289,16 +325,19 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   }
   lm.scale.assign(nv, 1.0);
   for (std::size_t v = 0; v < nv; ++v) {
-    lm.uv[v] = {mm.vertices[v].x, mm.vertices[v].y};
+    lm.uv[v] = {mm.vertices[v].x, mm.vertices[v].y / vscale};
     if (v < mm.vertex_metric.size()) {
       // The scale mesher2d applied to the field (sizes from the boundary): the ratio of
-      // the traces, the scaling being isotropic.
+      // the traces (in mesher2d's coordinates), the scaling being isotropic.
       const param::Metric2 fm = field.metric_uv(lm.uv[v].x, lm.uv[v].y);
-      const double tr = fm(0, 0) + fm(1, 1);
+      const double tr = fm(0, 0) + fm(1, 1) / (vscale * vscale);
       if (tr > 0) lm.scale[v] = std::max(1.0, (mm.vertex_metric[v].m11 + mm.vertex_metric[v].m22) / tr);
     }
     lm.p[v] = lm.global[v] >= 0 ? node_points[static_cast<std::size_t>(lm.global[v])] : s.point(lm.uv[v].x, lm.uv[v].y);
   }
+  // Boundary nodes keep their exact (u,v), not the round trip through the v scaling.
+  for (std::size_t i = 0; i < uv_in.size(); ++i)
+    lm.uv[static_cast<std::size_t>(mm.input_vertex[i])] = {uv_in[i].x, uv_in[i].y};
   lm.tris.reserve(mm.triangles.size());
   for (const auto& t : mm.triangles) {
     // At a pole two (u,v) points are one node: that triangle is an edge in 3D.

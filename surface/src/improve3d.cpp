@@ -118,59 +118,91 @@ struct Improver {
     return swaps;
   }
 
-  // One sweep of relocation: each free vertex whose incident triangles are not already
-  // good moves toward the centroid of its ring in 3D; the 3D step is pulled back to
-  // (u,v) through the Jacobian (one Gauss-Newton step of the projection), then mapped
-  // through sigma. Accepted when the worst incident quality does not decrease.
+  // Move v to the 3D target c: the step is pulled back to (u,v) through the Jacobian
+  // (one Gauss-Newton step of the projection on the surface), then mapped through sigma.
+  // Tried at full, half and quarter length; kept when the worst incident quality rises
+  // above `floor` and every incident triangle stays counter-clockwise in (u,v). Returns
+  // the new worst quality, or -1 (v restored) when no step qualifies.
+  double try_move(std::size_t v, const std::vector<std::int32_t>& ring, const geom::SurfacePoint& e,
+                  const geom::Vec3& c, double floor) {
+    const geom::Vec3 dx = c - lm.p[v];
+    const double E = glm::dot(e.du, e.du), F = glm::dot(e.du, e.dv), G = glm::dot(e.dv, e.dv);
+    const double det = E * G - F * F;
+    if (!(det > 1e-300)) return -1.0;
+    const double bu = glm::dot(e.du, dx), bv = glm::dot(e.dv, dx);
+    const geom::Vec2 duv{(G * bu - F * bv) / det, (E * bv - F * bu) / det};
+    const geom::Vec2 old_uv = lm.uv[v];
+    const geom::Vec3 old_p = lm.p[v];
+    for (double step : {1.0, 0.5, 0.25}) {
+      lm.uv[v] = old_uv + step * duv;
+      bool valid = true;
+      for (std::int32_t t : ring) {
+        const auto& T = lm.tris[static_cast<std::size_t>(t)];
+        if (!(orient_uv(lm.uv[T[0]], lm.uv[T[1]], lm.uv[T[2]]) > 0)) {
+          valid = false;
+          break;
+        }
+      }
+      if (!valid) continue;
+      lm.p[v] = s.point(lm.uv[v].x, lm.uv[v].y);
+      double qn = 1.0;
+      for (std::int32_t t : ring) qn = std::min(qn, q(t));
+      if (qn > floor) return qn;
+    }
+    lm.uv[v] = old_uv;
+    lm.p[v] = old_p;
+    return -1.0;
+  }
+
+  // One sweep of relocation (§7.3.6): each free vertex whose incident triangles are not
+  // already good moves toward the centroid of its ring. A vertex next to a bad triangle
+  // (Q > 1.6) also tries the mean of the ideal points of its ring -- for each incident
+  // triangle (v, a, b), the apex over a-b of the equilateral triangle in the tangent plane
+  // -- and the ideal point of its worst triangle: a vertex squeezed against one edge (a cap
+  // of 140 degrees over a boundary segment) is pushed off that edge, which the centroid
+  // alone, pulled by the rest of the ring, does not do. Accepted when the worst incident
+  // quality rises.
   int smooth_pass(const std::vector<std::vector<std::int32_t>>& ring) {
     int moves = 0;
     for (std::size_t v = 0; v < lm.uv.size(); ++v) {
       if (lm.fixed[v] || ring[v].empty()) continue;
       double qmin = 1.0;
+      std::int32_t worst = -1;
       geom::Vec3 c(0.0);
       int nc = 0;
       for (std::int32_t t : ring[v]) {
-        qmin = std::min(qmin, q(t));
+        if (const double qt = q(t); qt < qmin) qmin = qt, worst = t;
         for (int k : lm.tris[static_cast<std::size_t>(t)])
           if (k != static_cast<int>(v)) c += lm.p[static_cast<std::size_t>(k)], ++nc;
       }
       if (qmin > 0.9 || nc == 0) continue;
       c /= static_cast<double>(nc);  // each ring vertex counted twice: the mean is unchanged
       const geom::SurfacePoint e = s.eval(lm.uv[v].x, lm.uv[v].y);
-      const geom::Vec3 dx = c - lm.p[v];
-      const double E = glm::dot(e.du, e.du), F = glm::dot(e.du, e.dv), G = glm::dot(e.dv, e.dv);
-      const double det = E * G - F * F;
-      if (!(det > 1e-300)) continue;
-      const double bu = glm::dot(e.du, dx), bv = glm::dot(e.dv, dx);
-      const geom::Vec2 duv{(G * bu - F * bv) / det, (E * bv - F * bu) / det};
-      const geom::Vec2 old_uv = lm.uv[v];
-      const geom::Vec3 old_p = lm.p[v];
-      bool moved = false;
-      for (double step : {1.0, 0.5, 0.25}) {
-        lm.uv[v] = old_uv + step * duv;
-        bool valid = true;
+      double best = try_move(v, ring[v], e, c, qmin * 1.001);
+      if (qmin < 1.0 / 1.6) {
+        // The tangent-plane normal, oriented as the (u,v) triangles are (CCW in (u,v)
+        // is CCW around du x dv).
+        const geom::Vec3 n = unit_normal(geom::Vec3(0.0), e.du, e.dv);
+        geom::Vec3 ideal_sum(0.0), ideal_worst(0.0);
         for (std::int32_t t : ring[v]) {
           const auto& T = lm.tris[static_cast<std::size_t>(t)];
-          if (!(orient_uv(lm.uv[T[0]], lm.uv[T[1]], lm.uv[T[2]]) > 0)) {
-            valid = false;
-            break;
-          }
+          int k = 0;
+          while (T[k] != static_cast<int>(v)) ++k;
+          const geom::Vec3 &a = lm.p[T[(k + 1) % 3]], &b = lm.p[T[(k + 2) % 3]];
+          // (v, a, b) is CCW: v lies to the left of a -> b, i.e. along n x (b - a).
+          const geom::Vec3 apex = 0.5 * (a + b) + (std::sqrt(3.0) / 2.0) * glm::cross(n, b - a);
+          ideal_sum += apex;
+          if (t == worst) ideal_worst = apex;
         }
-        if (!valid) continue;
-        lm.p[v] = s.point(lm.uv[v].x, lm.uv[v].y);
-        double qn = 1.0;
-        for (std::int32_t t : ring[v]) qn = std::min(qn, q(t));
-        if (qn > qmin * 1.001) {
-          moved = true;
-          break;
+        const geom::Vec3 ideal = ideal_sum / static_cast<double>(ring[v].size());
+        const geom::Vec3 cands[] = {ideal, 0.5 * (lm.p[v] + ideal_worst), ideal_worst};
+        for (const geom::Vec3& cand : cands) {
+          const geom::SurfacePoint ev = best > 0 ? s.eval(lm.uv[v].x, lm.uv[v].y) : e;
+          const double got = try_move(v, ring[v], ev, cand, std::max(qmin, best) * 1.001);
+          if (got > 0) best = got;
         }
       }
-      if (!moved) {
-        lm.uv[v] = old_uv;
-        lm.p[v] = old_p;
-      } else {
-        ++moves;
-      }
+      if (best > 0) ++moves;
     }
     return moves;
   }
