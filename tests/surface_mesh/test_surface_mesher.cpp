@@ -173,6 +173,26 @@ TEST_CASE("surface mesher: sliver faces and small features next to long edges (n
   accept(data("cad/nist_ctc_01.stp"), true);
 }
 
+TEST_CASE("surface mesher: a thin cylindrical band, anisotropic in (u,v) as a whole (nist_ftc_11)", "[surface]") {
+  // Face 2 is a band 1.5 tall around a radius of ~9 (u an angle, v a length): mesher2d's
+  // first triangulation of its boundary was fans of edges along the boundary that no
+  // field point survived (metric Q 590, 26 triangles with Q >= 3). Fixed by scaling v by
+  // the face's mean anisotropy before mesher2d.
+  accept(data("cad/nist_ftc_11.stp"), true);
+}
+
+TEST_CASE("surface mesher: chordal repair of triangles the size grid missed (gmsh_problem_sphere)", "[surface]") {
+  // The curvature sizes left a deviation of 1.10 tolerance; triangles whose centroid is
+  // beyond 0.9 tolerance are now split at the foot of the centroid.
+  accept(data("cad/gmsh_problem_sphere.brep"), true);
+}
+
+TEST_CASE("surface mesher: a sub-hmin edge next to a coarse one grades through their vertex (gmsh_block)", "[surface]") {
+  // An edge refined below hmin by proximity met a coarse edge with a 50x jump in segment
+  // length: 25 triangles with Q >= 3 (caps) in the faces around it.
+  accept(data("cad/gmsh_block.stp"), true);
+}
+
 TEST_CASE("surface mesher: --hmax D/40 --angle 30 on the bracket", "[surface]") {
   const geom::Model m = load(std::string(UVMESH_SOURCE_DIR) + "/samples/data/bracket.step");
   surface::MeshOptions o = defaults(m);

@@ -38,6 +38,9 @@ struct MeshOptions {
   /// The chordal tolerance the user asked for is divided by this before it sizes
   /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
   double chordal_safety = 4.0;
+  /// Rounds of splitting the triangles whose centroid deviates from the surface by more
+  /// than 0.9 chordal tolerance (after the 3D improvement); 0 = off.
+  int chordal_repair_rounds = 3;
   int min_segments_closed_edge = 3;
   /// Rounds of size caps on the edges from the other edges of their faces (gradation
   /// across a face and proximity of another part of its boundary); 0 = off.
@@ -66,6 +69,7 @@ struct FaceStats {
   int triangles = 0;
   double seconds = 0;
   int swaps3d = 0, moves3d = 0;
+  int chordal_splits = 0;  ///< triangles split by the chordal repair
   /// Edges of the face's triangles and how many have a metric length in
   /// [1/sqrt2, sqrt2], shorter, longer -- measured in this face's metric (edges on the
   /// face's boundary are counted by each face around them).
