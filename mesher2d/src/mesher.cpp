@@ -92,6 +92,10 @@ class Mesher {
   void run() {
     auto t0 = Clock::now();
     if (!validate()) return;
+    if (hull_fast_path()) {
+      run_hull(t0);
+      return;
+    }
     merge_duplicates();
     build_segments();
     stage("input", t0);
@@ -509,6 +513,116 @@ class Mesher {
       s.b = vid_[s.b];
     }
     return true;
+  }
+
+  // ---------------------------------------------------------------- 3'. hull fast path
+  // No segments, holes, regions or refinement: the result is the Delaunay triangulation
+  // of the convex hull of the distinct input points, which HullDelaunay builds directly
+  // (ghost triangles instead of box, hull enforcement and coloring). Same exact
+  // predicates, same Result: vertices in input order, hull edges as boundary edges
+  // (marker 1, split at collinear points), duplicates merged and reported.
+  bool hull_fast_path() const {
+    return in_.segments.empty() && in_.holes.empty() && in_.regions.empty() &&
+           in_.points.size() <= detail::HullDelaunay::kMaxPoints &&
+           opt_.triangulate_hull_without_segments && !opt_.domain_from_orientation &&
+           (!opt_.refine || (size_.kind == SizeSpec::Kind::Uniform && !(size_.h > 0)));
+  }
+  void run_hull(Clock::time_point& t0) {
+    stage("input", t0);
+    detail::HullDelaunay dh;
+    const auto st = dh.build(in_.points);
+    if (st == detail::HullDelaunay::Status::Collinear) {
+      fail(StatusCode::InvalidInput, "all points are collinear: there is no triangle to make");
+      return;
+    }
+    if (st != detail::HullDelaunay::Status::Ok) {
+      fail(StatusCode::InternalError, "Delaunay triangulation of the convex hull failed (kernel bug guard)");
+      return;
+    }
+    stage("delaunay", t0);
+    output_hull(dh);
+    stage("output", t0);
+    res_.stats.quality = measure(res_.mesh.vertices, res_.mesh.triangles, SizeSpec::uniform(0));
+    stage("measure", t0);
+    if (opt_.check) {
+      CheckReport rep = check(res_.mesh, in_, {.delaunay = true});
+      if (!rep.ok()) fail(StatusCode::InternalError, "checker: " + rep.errors.front());
+    }
+  }
+  void output_hull(const detail::HullDelaunay& dh) {
+    using detail::HullDelaunay;
+    Mesh& M = res_.mesh;
+    const std::size_t n = in_.points.size();
+    const std::size_t nv = dh.pts.size();  // vertex 0 is the ghost
+    // Output vertices in the kernel's insertion order (spatially coherent: BRIO rounds
+    // in Hilbert order), so that every later pass over the mesh, ours or the caller's,
+    // reads its vertices nearly in sequence; input_vertex maps input points to them.
+    // An exact duplicate's vertex is left out; its input point maps to the equal vertex.
+    std::vector<VertId> out;
+    const bool compact = !dh.dups.empty();
+    std::vector<char> dead;
+    if (compact) {
+      dead.assign(nv, 0);
+      for (const auto& d : dh.dups) dead[d.first] = 1;
+      out.assign(nv, kNone);
+    }
+    const std::size_t nout = nv - 1 - dh.dups.size();
+    M.vertices.resize(nout);
+    M.vertex_markers.assign(nout, 0);
+    M.input_vertex.resize(n);
+    // The marker of a merged vertex is that of its first input point (as in
+    // merge_duplicates): msrc = the smallest input index among equal points.
+    std::vector<std::int32_t> msrc;
+    if (compact) {
+      msrc.assign(dh.src.begin(), dh.src.end());
+      for (const auto& [d, k] : dh.dups) msrc[k] = std::min(msrc[k], dh.src[d]);
+    }
+    VertId w = 0;
+    for (std::size_t v = 1; v < nv; ++v) {
+      if (compact) {
+        if (dead[v]) continue;
+        out[v] = w;
+      }
+      M.vertices[w] = dh.pts[v];
+      M.input_vertex[dh.src[v]] = w;
+      if (!in_.point_markers.empty()) M.vertex_markers[w] = in_.point_markers[compact ? msrc[v] : dh.src[v]];
+      ++w;
+    }
+    if (compact) {
+      std::int64_t dup_first = -1, dup_of = -1;
+      for (const auto& [d, k] : dh.dups) {
+        M.input_vertex[dh.src[d]] = out[k];
+        for (const std::int32_t i : {dh.src[d], dh.src[k]})
+          if (i != msrc[k] && (dup_first < 0 || i < dup_first)) dup_first = i, dup_of = msrc[k];
+      }
+      const auto dup = static_cast<std::int64_t>(dh.dups.size());
+      res_.stats.duplicates_merged = dup;
+      res_.status.warnings.push_back(std::to_string(dup) + " duplicate point(s) merged (first: point " +
+                                     std::to_string(dup_first) + " duplicates point " + std::to_string(dup_of) + ")");
+    }
+    // Triangles and hull edges in one pass; a ghost (a, b, G) stands for the hull edge
+    // b -> a of the triangle inside.
+    const std::size_t nt = dh.tris.size();
+    M.triangles.resize(nt);
+    std::size_t k = 0;
+    auto emit = [&](auto id) {
+      for (std::size_t t = 0; t < nt; ++t) {
+        const auto& r = dh.tris[t];
+        if (HullDelaunay::ghost(r)) [[unlikely]] {
+          const int g = r.v[0] == HullDelaunay::kGhost ? 0 : r.v[1] == HullDelaunay::kGhost ? 1 : 2;
+          M.boundary_edges.push_back({id(r.v[detail::prev3(g)]), id(r.v[detail::next3(g)]), 1});
+          continue;
+        }
+        M.triangles[k++] = {id(r.v[0]), id(r.v[1]), id(r.v[2])};
+      }
+    };
+    if (compact)
+      emit([&](VertId v) { return out[v]; });
+    else
+      emit([](VertId v) { return v - 1; });
+    M.triangles.resize(k);
+    M.triangle_region.assign(k, 0);
+    M.triangle_attribute.assign(k, 0.0);
   }
 
   // ---------------------------------------------------------------- 4. enforcement

@@ -7,13 +7,14 @@
 #include <deque>
 #include <utility>
 
+#include "predicates_filter.h"
 #include "uvmesh/mesher2d/predicates.h"
 
 namespace uvmesh::m2d::detail {
 
 namespace {
 inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
-  return pred::orient2d(&a.x, &b.x, &c.x);
+  return pred::detail::orient2d_filtered(&a.x, &b.x, &c.x);
 }
 }  // namespace
 
@@ -124,7 +125,7 @@ bool Triangulation::in_cavity(TriId t, Vec2 p, const InsertParams& prm) const {
   const Vec2& a = pts[tv[3 * t]];
   const Vec2& b = pts[tv[3 * t + 1]];
   const Vec2& c = pts[tv[3 * t + 2]];
-  if (!prm.use_metric) return pred::incircle(&a.x, &b.x, &c.x, &p.x) > 0;
+  if (!prm.use_metric) return pred::detail::incircle_filtered(&a.x, &b.x, &c.x, &p.x) > 0;
   // eq. 7.15-7.16 with M approached by M(P): in coordinates where M(P) is the identity
   // (x -> R x with M = R^T R, R upper triangular with a positive diagonal, so orientation is
   // kept) the metric circumcircle of K is the Euclidean one, and alpha_M(P)(P,K) < 1 is an
@@ -137,7 +138,7 @@ bool Triangulation::in_cavity(TriId t, Vec2 p, const InsertParams& prm) const {
     return Vec2{l11 * dx + l12 * dy, l22 * dy};
   };
   const Vec2 ta = tr(a), tb = tr(b), tc = tr(c), tp{0, 0};
-  return pred::incircle(&ta.x, &tb.x, &tc.x, &tp.x) > 0;
+  return pred::detail::incircle_filtered(&ta.x, &tb.x, &tc.x, &tp.x) > 0;
 }
 
 InsertResult Triangulation::insert_point(Vec2 p, TriId hint, const InsertParams& prm) {
@@ -208,7 +209,7 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
           const Vec2& ka = pts[tv[3 * n]];
           const Vec2& kb = pts[tv[3 * n + 1]];
           const Vec2& kc = pts[tv[3 * n + 2]];
-          in = pred::incircle(&ka.x, &kb.x, &kc.x, &p.x) > 0;
+          in = pred::detail::incircle_filtered(&ka.x, &kb.x, &kc.x, &p.x) > 0;
         }
       }
       if (in) {
@@ -515,7 +516,7 @@ void Triangulation::restore_delaunay(std::vector<std::pair<VertId, VertId>>& sta
     const std::int32_t g = opp[h];
     const VertId d = tv[g];
     const Vec2 &p0 = pts[tv[3 * t]], &p1 = pts[tv[3 * t + 1]], &p2 = pts[tv[3 * t + 2]];
-    if (pred::incircle(&p0.x, &p1.x, &p2.x, &pts[d].x) <= 0) continue;
+    if (pred::detail::incircle_filtered(&p0.x, &p1.x, &p2.x, &pts[d].x) <= 0) continue;
     if (!flippable(h)) continue;  // cannot happen for a non-locally-Delaunay edge
     const int i = h % 3;
     const VertId c = tv[3 * t + i], a = tv[3 * t + next3(i)], b = tv[3 * t + prev3(i)];

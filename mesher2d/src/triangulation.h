@@ -147,4 +147,56 @@ class Triangulation {
   mutable std::uint64_t rng_ = 0x9E3779B97F4A7C15ull;
 };
 
+// Delaunay triangulation of the convex hull of a point set, without constraints: the
+// fast path of m2d::mesh for unconstrained input without refinement (the issue's
+// "Delaunay triangulation of N random points" case). Same kernel idea as Triangulation
+// (T(i+1) = T(i) - C(P) + B(P), §7.1.3, exact predicates), but instead of the enclosing
+// box of §7.3.2 the outside of the hull is covered by "ghost" triangles (a, b, G) that
+// join every hull edge to one vertex G at infinity. A ghost triangle's circumdisk is the
+// open half-plane beyond its hull edge plus the open edge itself, so a point outside the
+// current hull is inserted by the same cavity rule, the triangulation always is the
+// Delaunay triangulation of the convex hull of the points inserted so far, and no box
+// corners, hull recovery (enforcement of hull edges) or coloring are needed.
+//
+// Storage: per triangle three vertex ids and three twin half-edges; half-edge h = 4t + i
+// is edge i, opposite vertex i, as in Triangulation (4t rather than 3t: shifts instead of
+// divisions on the hot path; limits the fast path to 2^28 points). Vertex 0 is G; vertex k + 1 is the
+// k-th input point in insertion order (biased randomized insertion order, BRIO, with a
+// Hilbert order inside every round), so that consecutive insertions touch coordinates
+// and triangles close in memory as well as in the plane. Cavity triangles are reused for
+// the ball, so no slot ever dies: every triangle is live. Exact duplicates are found by
+// point location (a point on two edges of its triangle is their common vertex): their
+// vertex stays unused and is listed in dups.
+class HullDelaunay {
+ public:
+  static constexpr VertId kGhost = 0;
+  struct Tri {
+    VertId v[3];
+    std::int32_t n[3];
+  };
+  enum class Status { Ok, Collinear, Internal };
+  // in: finite coordinates (m2d::mesh validates them). Collinear: fewer than three
+  // distinct points, or all on one line (no triangle). Internal: a bug guard fired.
+  Status build(const std::vector<Vec2>& in);
+
+  static bool ghost(const Tri& r) { return r.v[0] == kGhost || r.v[1] == kGhost || r.v[2] == kGhost; }
+
+  std::vector<Vec2> pts;          // vertex -> point (pts[0]: G, NaN coordinates)
+  std::vector<std::int32_t> src;  // vertex -> input point index
+  std::vector<std::pair<VertId, VertId>> dups;  // (unused vertex, the equal vertex kept)
+  std::vector<Tri> tris;          // real and ghost triangles, all live
+  static constexpr std::size_t kMaxPoints = (std::size_t{1} << 28) - 16;
+
+ private:
+  bool insert(VertId pv);
+  bool conflict_slow(const Tri& r, Vec2 p) const;
+  std::int32_t last_ = 0;  // a real triangle at the last inserted vertex: the walk's start
+  struct NewTri {
+    VertId a, b;
+    std::int32_t out;  // the twin half-edge outside the cavity
+  };
+  std::vector<std::int32_t> cav_, stack_;  // scratch, sized on demand
+  std::vector<NewTri> ball_;
+};
+
 }  // namespace uvmesh::m2d::detail

@@ -1,0 +1,323 @@
+// HullDelaunay (triangulation.h): the Delaunay triangulation of the convex hull of a point
+// set by the kernel T(i+1) = T(i) - C(P) + B(P) (§7.1.3, eq. 7.2), with ghost triangles
+// at infinity instead of the enclosing box of §7.3.2. Every geometric decision goes
+// through the exact predicates (inline filter, exact fallback).
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "predicates_filter.h"
+#include "triangulation.h"
+
+namespace uvmesh::m2d::detail {
+
+namespace {
+
+inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return pred::detail::orient2d_filtered(&a.x, &b.x, &c.x);
+}
+
+// ------------------------------------------------------------------ insertion order
+// Hilbert index, four bits of x and four of y per table step. The curve is the classical
+// one: at each level the quadrant digit is (3 rx) ^ ry of the coordinates transformed by
+// the level's state (swap x/y, complement both), and the state changes when ry = 0 (swap;
+// also complement when rx = 1). The table holds, per state and 4+4 input bits, the 8 bits
+// of digits and the state after them.
+struct HilbertTable {
+  std::array<std::uint16_t, 4 * 256> t{};
+  constexpr HilbertTable() {
+    for (unsigned s0 = 0; s0 < 4; ++s0)
+      for (unsigned xy = 0; xy < 256; ++xy) {
+        const unsigned x = xy >> 4, y = xy & 15;
+        unsigned sw = s0 & 1, cm = s0 >> 1, d = 0;
+        for (int b = 3; b >= 0; --b) {
+          const unsigned bx = ((sw ? y : x) >> b & 1) ^ cm;
+          const unsigned by = ((sw ? x : y) >> b & 1) ^ cm;
+          d = d << 2 | ((3 * bx) ^ by);
+          if (by == 0) {
+            cm ^= bx;
+            sw ^= 1;
+          }
+        }
+        t[s0 * 256 + xy] = static_cast<std::uint16_t>(d | (sw | cm << 1) << 8);
+      }
+  }
+};
+constexpr HilbertTable kHilbert;
+
+// Hilbert index of (x, y) in [0, 2^16)^2.
+inline std::uint32_t hilbert16(std::uint32_t x, std::uint32_t y) {
+  std::uint32_t d = 0, s = 0;
+  for (int sh = 12; sh >= 0; sh -= 4) {
+    const std::uint16_t e = kHilbert.t[s * 256 + ((x >> sh & 15) << 4 | (y >> sh & 15))];
+    d = d << 8 | (e & 255u);
+    s = e >> 8;
+  }
+  return d;
+}
+
+inline std::uint64_t mix64(std::uint64_t z) {
+  z += 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+// Insertion order: BRIO (Amenta, Choi, Rote): point i joins round r with probability
+// 2^-(r+1) counted from the last round (a deterministic hash of i, so the output does not
+// depend on anything but the input), rounds inserted from the smallest; inside a round,
+// Hilbert order, so that consecutive points are neighbours and the walk from the last
+// inserted triangle is a few steps. The random rounds keep the triangulation of the
+// inserted points well spread (no long thin triangles across the domain whose huge
+// circumdisks make large cavities, as a pure space-filling order builds). Sorted by an
+// LSD radix sort of 32-bit keys (round, 28-bit Hilbert index) carrying the input index:
+// stable, so equal keys keep the input order.
+void insertion_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec) {
+  const std::size_t n = in.size();
+  double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
+  for (const Vec2& p : in) {
+    xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x);
+    ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
+  }
+  const double sx = 65535.0 / std::max(xmax - xmin, 1e-300), sy = 65535.0 / std::max(ymax - ymin, 1e-300);
+  auto q = [](double v) {
+    return static_cast<std::uint32_t>(!(v > 0) ? 0.0 : v < 65535.0 ? v : 65535.0);
+  };
+  const int lg = static_cast<int>(std::bit_width(static_cast<std::uint64_t>(n)));
+  const int rounds = std::clamp(lg - 8, 1, 15);
+  std::vector<std::uint64_t> tmp(n);
+  rec.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t h = hilbert16(q((in[i].x - xmin) * sx), q((in[i].y - ymin) * sy)) >> 4;
+    const int level = std::min(std::countr_zero(mix64(i) | 1ull << 62), rounds - 1);
+    const std::uint32_t key = static_cast<std::uint32_t>(rounds - 1 - level) << 28 | h;
+    rec[i] = static_cast<std::uint64_t>(key) << 32 | static_cast<std::uint32_t>(i);
+  }
+  // Three passes of 11 bits over the key (bits 32..63).
+  std::vector<std::uint32_t> cnt(2048);
+  for (int pass = 0; pass < 3; ++pass) {
+    const int sh = 32 + 11 * pass;
+    std::fill(cnt.begin(), cnt.end(), 0u);
+    for (const std::uint64_t r : rec) ++cnt[(r >> sh) & 2047];
+    std::uint32_t sum = 0;
+    for (auto& c : cnt) {
+      const std::uint32_t c0 = c;
+      c = sum;
+      sum += c0;
+    }
+    for (const std::uint64_t r : rec) tmp[cnt[(r >> sh) & 2047]++] = r;
+    rec.swap(tmp);
+  }
+}
+
+}  // namespace
+
+HullDelaunay::Status HullDelaunay::build(const std::vector<Vec2>& in) {
+  const std::size_t n = in.size();
+  tris.clear();
+  dups.clear();
+  std::vector<std::uint64_t> order;
+  insertion_order(in, order);
+  // Coordinates in insertion order (the gather is the only random access to the input;
+  // prefetched a few points ahead).
+  pts.resize(n + 1);
+  src.resize(n + 1);
+  pts[0] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  src[0] = kNone;
+  constexpr std::size_t kAhead = 16;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k + kAhead < n) __builtin_prefetch(&in[order[k + kAhead] & 0xFFFFFFFFu]);
+    const std::uint32_t i = static_cast<std::uint32_t>(order[k] & 0xFFFFFFFFu);
+    pts[k + 1] = in[i];
+    src[k + 1] = static_cast<std::int32_t>(i);
+  }
+  if (n < 3) return Status::Collinear;
+
+  // The first triangle: vertex 1, the first vertex different from it, the first vertex
+  // off their line (the vertices skipped meanwhile are inserted later like any other).
+  const VertId nv = static_cast<VertId>(n);
+  VertId v1 = 2;
+  while (v1 <= nv && pts[v1].x == pts[1].x && pts[v1].y == pts[1].y) ++v1;
+  if (v1 > nv) return Status::Collinear;
+  VertId v2 = v1 + 1;
+  double o = 0;
+  while (v2 <= nv && (o = orient(pts[1], pts[v1], pts[v2])) == 0) ++v2;
+  if (v2 > nv) return Status::Collinear;
+  const VertId a = 1, b = o > 0 ? v1 : v2, c = o > 0 ? v2 : v1;
+  tris.reserve(2 * n + 8);
+  // t0 = (a, b, c) counter-clockwise; ghosts (b, a, G), (c, b, G), (a, c, G) across its
+  // edges 2, 0, 1; each ghost meets the next one around the hull at G.
+  tris.push_back({{a, b, c}, {4 * 2 + 2, 4 * 3 + 2, 4 * 1 + 2}});
+  tris.push_back({{b, a, kGhost}, {4 * 3 + 1, 4 * 2 + 0, 4 * 0 + 2}});  // hull edge (a, b)
+  tris.push_back({{c, b, kGhost}, {4 * 1 + 1, 4 * 3 + 0, 4 * 0 + 0}});  // hull edge (b, c)
+  tris.push_back({{a, c, kGhost}, {4 * 2 + 1, 4 * 1 + 0, 4 * 0 + 1}});  // hull edge (c, a)
+  last_ = 0;
+  for (VertId v = 2; v <= nv; ++v) {
+    if (v == v1 || v == v2) continue;
+    if (!insert(v)) return Status::Internal;
+  }
+  return Status::Ok;
+}
+
+bool HullDelaunay::conflict_slow(const Tri& r, Vec2 p) const {
+  const Vec2* const P = pts.data();
+  if (!ghost(r)) return pred::detail::incircle_slow(&P[r.v[0]].x, &P[r.v[1]].x, &P[r.v[2]].x, &p.x) > 0;
+  // Ghost (a, b, G): the hull edge a -> b has the outside on its left. Its circumdisk is
+  // the open half-plane on that side plus the open edge (a point on the edge splits it).
+  const int g = r.v[0] == kGhost ? 0 : r.v[1] == kGhost ? 1 : 2;
+  const Vec2& a = P[r.v[next3(g)]];
+  const Vec2& b = P[r.v[prev3(g)]];
+  const double o = orient(a, b, p);
+  if (o != 0) return o > 0;
+  // Collinear: strictly between a and b, compared exactly along a coordinate in which
+  // they differ (coordinates are monotone along a line).
+  if (a.x != b.x) return (a.x < p.x && p.x < b.x) || (b.x < p.x && p.x < a.x);
+  return (a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y);
+}
+
+bool HullDelaunay::insert(VertId pv) {
+  Tri* const T = tris.data();
+  const Vec2* const P = pts.data();
+  const Vec2 p = P[pv];
+  // Point location: visibility walk from the last triangle made (§7.3.2 step 1), never
+  // back through the edge just crossed. It terminates in a Delaunay triangulation
+  // (acyclicity of the in-front relation), which this always is; the step cap guards
+  // against bugs. Crossing a hull edge ends in its ghost: p is outside the hull.
+  // G's coordinates are NaN: an orientation test involving G is NaN (never < 0), so the
+  // walk stops in the first ghost it enters without testing for ghosts on every step.
+  auto side = [&](VertId a, VertId b) {
+    const double d = pred::detail::orient2d_filter(&P[a].x, &P[b].x, &p.x);
+    if (d != 0) [[likely]]
+      return d;
+    if (a == kGhost || b == kGhost) return std::numeric_limits<double>::quiet_NaN();
+    return pred::detail::orient2d_slow(&P[a].x, &P[b].x, &p.x);
+  };
+  std::int32_t t = last_;
+  double o[3];
+  {
+    const Tri& r = T[t];
+    int cross = -1;
+    for (int i = 0; i < 3; ++i) {
+      o[i] = side(r.v[next3(i)], r.v[prev3(i)]);
+      if (o[i] < 0) {
+        cross = i;
+        break;
+      }
+    }
+    const std::int64_t cap = static_cast<std::int64_t>(tris.size()) + 64;
+    for (std::int64_t steps = 0; cross >= 0; ++steps) {
+      if (steps > cap) return false;
+      const std::int32_t h = T[t].n[cross];
+      t = h >> 2;
+      const Tri& s = T[t];
+      // Entered through edge j: p is strictly inside it; test the two others.
+      const int j = h & 3, i1 = next3(j), i2 = prev3(j);
+      o[j] = 1;
+      cross = -1;
+      o[i1] = side(s.v[i2], s.v[j]);
+      if (o[i1] < 0) {
+        cross = i1;
+        continue;
+      }
+      o[i2] = side(s.v[j], s.v[i1]);
+      if (o[i2] < 0) cross = i2;
+    }
+  }
+  const bool outside = ghost(T[t]);
+  if (!outside) {
+    // On two edges of t: p is their common vertex, an exact duplicate.
+    for (int i = 0; i < 3; ++i)
+      if (o[next3(i)] == 0 && o[prev3(i)] == 0) {
+        const VertId v = T[t].v[i];
+        if (P[v].x != p.x || P[v].y != p.y) return false;  // cannot happen (exact)
+        dups.push_back({pv, v});
+        return true;
+      }
+  }
+
+  // Cavity (§7.1.3): the triangles whose open circumdisk holds p, grown by adjacency from
+  // the base t (which holds p, or is the ghost of a hull edge p is beyond). Depth first,
+  // each triangle's far edges in counter-clockwise order, so that the boundary edges come
+  // out as one counter-clockwise chain around p. In a Delaunay triangulation the cavity
+  // is a disk with every vertex on its boundary (its dual is a tree): no triangle is
+  // reached twice, no marks are needed; the edge count below checks it.
+  auto conflict = [&](const Tri& r) {
+    // The inline filter decides almost always; a ghost (NaN coordinates) or a nearly
+    // cocircular case falls through to conflict_slow.
+    const double det = pred::detail::incircle_filter(&P[r.v[0]].x, &P[r.v[1]].x, &P[r.v[2]].x, &p.x);
+    if (det != 0) [[likely]]
+      return det > 0;
+    return conflict_slow(r, p);
+  };
+  // Scratch arrays, grown on demand (a cavity can be large on cocircular input).
+  const std::size_t cap_need = 3 * (tris.size() < 64 ? tris.size() : 64) + 8;
+  if (stack_.size() < cap_need) {
+    stack_.resize(cap_need);
+    cav_.resize(cap_need);
+    ball_.resize(cap_need);
+  }
+  std::int32_t* stk = stack_.data();
+  std::int32_t* cav = cav_.data();
+  NewTri* ball = ball_.data();
+  std::size_t ns = 0, nc = 0, m = 0;
+  cav[nc++] = t;
+  stk[ns++] = 4 * t + 2;
+  stk[ns++] = 4 * t + 1;
+  stk[ns++] = 4 * t + 0;
+  while (ns > 0) {
+    const std::int32_t h = stk[--ns];
+    const Tri& r = T[h >> 2];
+    const int e = h & 3;
+    const std::int32_t g = r.n[e];
+    const std::int32_t u = g >> 2;
+    if (conflict(T[u])) {
+      if (nc + 3 > cav_.size() || ns + 3 > stack_.size()) [[unlikely]] {
+        cav_.resize(2 * cav_.size());
+        stack_.resize(2 * stack_.size());
+        ball_.resize(2 * ball_.size());
+        stk = stack_.data();
+        cav = cav_.data();
+        ball = ball_.data();
+      }
+      cav[nc++] = u;
+      const int j = g & 3;
+      stk[ns++] = 4 * u + prev3(j);
+      stk[ns++] = 4 * u + next3(j);
+    } else {
+      // Boundary edge (a, b) of the cavity, seen from inside; g is its outer twin.
+      ball[m++] = {r.v[next3(e)], r.v[prev3(e)], g};
+    }
+  }
+  if (m != nc + 2) return false;  // not a disk: cannot happen (exact predicates)
+
+  // Ball (eq. 7.2): triangle k = (a_k, b_k, p) on boundary edge k; the cavity's slots
+  // are reused and two are added. Consecutive ones share the edge (b_k = a_k+1, p).
+  const std::int32_t nt = static_cast<std::int32_t>(tris.size());
+  cav[nc++] = nt;
+  cav[nc++] = nt + 1;
+  tris.resize(tris.size() + 2);  // within the reserved capacity: T stays valid
+  std::int32_t real = -1;
+  std::int32_t sp = cav[m - 1];
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::int32_t s = cav[k];
+    const std::int32_t sn = k + 1 == m ? cav[0] : cav[k + 1];
+    const NewTri b = ball[k];
+    Tri& r = T[s];
+    r.v[0] = b.a;
+    r.v[1] = b.b;
+    r.v[2] = pv;
+    r.n[0] = 4 * sn + 1;  // (b_k, p)  <->  (p, a_k+1) of the next
+    r.n[1] = 4 * sp + 0;  // (p, a_k)  <->  (b_k-1, p) of the previous
+    r.n[2] = b.out;
+    T[b.out >> 2].n[b.out & 3] = 4 * s + 2;
+    if (real < 0 && b.a != kGhost && b.b != kGhost) real = s;
+    sp = s;
+  }
+  last_ = real;
+  return real >= 0;
+}
+
+}  // namespace uvmesh::m2d::detail
