@@ -268,9 +268,10 @@ int child_dt_ours(std::int64_t n) {
   m.cpu = c1 - c0;
   m.tris = static_cast<double>(r.mesh.triangles.size());
   m.verts = static_cast<double>(r.mesh.vertices.size());
-  for (const auto& st : r.stats.stages)
-    if (st.name == "delaunay") m.notes = "'delaunay' stage " + fmt("%.3g", st.seconds) + " s wall (" +
-                                         fmt("%.3g", n / st.seconds * 1e-6) + " M pts/s); whole call timed";
+  // Every stage of the call (wall seconds, Result::stats): where the time goes.
+  m.notes = "one thread; whole call timed; stages (wall s):";
+  for (const auto& st : r.stats.stages) m.notes += " " + st.name + " " + fmt("%.3g", st.seconds) + ",";
+  m.notes.pop_back();
   print_result(m);
   return 0;
 }
@@ -291,7 +292,7 @@ int child_dt_cgal(std::int64_t n) {
   m.cpu = c1 - c0;
   m.tris = static_cast<double>(dt.number_of_faces());
   m.verts = static_cast<double>(dt.number_of_vertices());
-  m.notes = "insert(range): spatial sort + insertion";
+  m.notes = "one thread; insert(range): spatial sort + insertion";
   print_result(m);
   return 0;
 }

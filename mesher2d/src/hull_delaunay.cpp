@@ -124,38 +124,38 @@ HullDelaunay::Status HullDelaunay::build(const std::vector<Vec2>& in) {
   // Coordinates in insertion order (the gather is the only random access to the input;
   // prefetched a few points ahead).
   pts.resize(n + 1);
-  src.resize(n + 1);
-  pts[0] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
-  src[0] = kNone;
+  src.resize(n);
+  ghost_id = static_cast<VertId>(n);
+  pts[n] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
   constexpr std::size_t kAhead = 16;
   for (std::size_t k = 0; k < n; ++k) {
     if (k + kAhead < n) __builtin_prefetch(&in[order[k + kAhead] & 0xFFFFFFFFu]);
     const std::uint32_t i = static_cast<std::uint32_t>(order[k] & 0xFFFFFFFFu);
-    pts[k + 1] = in[i];
-    src[k + 1] = static_cast<std::int32_t>(i);
+    pts[k] = in[i];
+    src[k] = static_cast<std::int32_t>(i);
   }
   if (n < 3) return Status::Collinear;
 
-  // The first triangle: vertex 1, the first vertex different from it, the first vertex
+  // The first triangle: vertex 0, the first vertex different from it, the first vertex
   // off their line (the vertices skipped meanwhile are inserted later like any other).
   const VertId nv = static_cast<VertId>(n);
-  VertId v1 = 2;
-  while (v1 <= nv && pts[v1].x == pts[1].x && pts[v1].y == pts[1].y) ++v1;
-  if (v1 > nv) return Status::Collinear;
+  VertId v1 = 1;
+  while (v1 < nv && pts[v1].x == pts[0].x && pts[v1].y == pts[0].y) ++v1;
+  if (v1 >= nv) return Status::Collinear;
   VertId v2 = v1 + 1;
   double o = 0;
-  while (v2 <= nv && (o = orient(pts[1], pts[v1], pts[v2])) == 0) ++v2;
-  if (v2 > nv) return Status::Collinear;
-  const VertId a = 1, b = o > 0 ? v1 : v2, c = o > 0 ? v2 : v1;
+  while (v2 < nv && (o = orient(pts[0], pts[v1], pts[v2])) == 0) ++v2;
+  if (v2 >= nv) return Status::Collinear;
+  const VertId a = 0, b = o > 0 ? v1 : v2, c = o > 0 ? v2 : v1, G = ghost_id;
   tris.reserve(2 * n + 8);
   // t0 = (a, b, c) counter-clockwise; ghosts (b, a, G), (c, b, G), (a, c, G) across its
   // edges 2, 0, 1; each ghost meets the next one around the hull at G.
   tris.push_back({{a, b, c}, {4 * 2 + 2, 4 * 3 + 2, 4 * 1 + 2}});
-  tris.push_back({{b, a, kGhost}, {4 * 3 + 1, 4 * 2 + 0, 4 * 0 + 2}});  // hull edge (a, b)
-  tris.push_back({{c, b, kGhost}, {4 * 1 + 1, 4 * 3 + 0, 4 * 0 + 0}});  // hull edge (b, c)
-  tris.push_back({{a, c, kGhost}, {4 * 2 + 1, 4 * 1 + 0, 4 * 0 + 1}});  // hull edge (c, a)
+  tris.push_back({{b, a, G}, {4 * 3 + 1, 4 * 2 + 0, 4 * 0 + 2}});  // hull edge (a, b)
+  tris.push_back({{c, b, G}, {4 * 1 + 1, 4 * 3 + 0, 4 * 0 + 0}});  // hull edge (b, c)
+  tris.push_back({{a, c, G}, {4 * 2 + 1, 4 * 1 + 0, 4 * 0 + 1}});  // hull edge (c, a)
   last_ = 0;
-  for (VertId v = 2; v <= nv; ++v) {
+  for (VertId v = 1; v < nv; ++v) {
     if (v == v1 || v == v2) continue;
     if (!insert(v)) return Status::Internal;
   }
@@ -167,7 +167,7 @@ bool HullDelaunay::conflict_slow(const Tri& r, Vec2 p) const {
   if (!ghost(r)) return pred::detail::incircle_slow(&P[r.v[0]].x, &P[r.v[1]].x, &P[r.v[2]].x, &p.x) > 0;
   // Ghost (a, b, G): the hull edge a -> b has the outside on its left. Its circumdisk is
   // the open half-plane on that side plus the open edge (a point on the edge splits it).
-  const int g = r.v[0] == kGhost ? 0 : r.v[1] == kGhost ? 1 : 2;
+  const int g = ghost_corner(r);
   const Vec2& a = P[r.v[next3(g)]];
   const Vec2& b = P[r.v[prev3(g)]];
   const double o = orient(a, b, p);
@@ -192,7 +192,7 @@ bool HullDelaunay::insert(VertId pv) {
     const double d = pred::detail::orient2d_filter(&P[a].x, &P[b].x, &p.x);
     if (d != 0) [[likely]]
       return d;
-    if (a == kGhost || b == kGhost) return std::numeric_limits<double>::quiet_NaN();
+    if (a == ghost_id || b == ghost_id) return std::numeric_limits<double>::quiet_NaN();
     return pred::detail::orient2d_slow(&P[a].x, &P[b].x, &p.x);
   };
   std::int32_t t = last_;
@@ -313,7 +313,7 @@ bool HullDelaunay::insert(VertId pv) {
     r.n[1] = 4 * sp + 0;  // (p, a_k)  <->  (b_k-1, p) of the previous
     r.n[2] = b.out;
     T[b.out >> 2].n[b.out & 3] = 4 * s + 2;
-    if (real < 0 && b.a != kGhost && b.b != kGhost) real = s;
+    if (real < 0 && b.a != ghost_id && b.b != ghost_id) real = s;
     sp = s;
   }
   last_ = real;

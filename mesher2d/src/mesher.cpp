@@ -549,11 +549,10 @@ class Mesher {
       if (!rep.ok()) fail(StatusCode::InternalError, "checker: " + rep.errors.front());
     }
   }
-  void output_hull(const detail::HullDelaunay& dh) {
-    using detail::HullDelaunay;
+  void output_hull(detail::HullDelaunay& dh) {
     Mesh& M = res_.mesh;
     const std::size_t n = in_.points.size();
-    const std::size_t nv = dh.pts.size();  // vertex 0 is the ghost
+    const std::size_t nv = n;  // vertices 0..n-1; dh.ghost_id == n
     // Output vertices in the kernel's insertion order (spatially coherent: BRIO rounds
     // in Hilbert order), so that every later pass over the mesh, ours or the caller's,
     // reads its vertices nearly in sequence; input_vertex maps input points to them.
@@ -566,8 +565,7 @@ class Mesher {
       for (const auto& d : dh.dups) dead[d.first] = 1;
       out.assign(nv, kNone);
     }
-    const std::size_t nout = nv - 1 - dh.dups.size();
-    M.vertices.resize(nout);
+    const std::size_t nout = nv - dh.dups.size();
     M.vertex_markers.assign(nout, 0);
     M.input_vertex.resize(n);
     // The marker of a merged vertex is that of its first input point (as in
@@ -576,14 +574,15 @@ class Mesher {
     if (compact) {
       msrc.assign(dh.src.begin(), dh.src.end());
       for (const auto& [d, k] : dh.dups) msrc[k] = std::min(msrc[k], dh.src[d]);
+      M.vertices.resize(nout);
     }
     VertId w = 0;
-    for (std::size_t v = 1; v < nv; ++v) {
+    for (std::size_t v = 0; v < nv; ++v) {
       if (compact) {
         if (dead[v]) continue;
         out[v] = w;
+        M.vertices[w] = dh.pts[v];
       }
-      M.vertices[w] = dh.pts[v];
       M.input_vertex[dh.src[v]] = w;
       if (!in_.point_markers.empty()) M.vertex_markers[w] = in_.point_markers[compact ? msrc[v] : dh.src[v]];
       ++w;
@@ -599,28 +598,31 @@ class Mesher {
       res_.stats.duplicates_merged = dup;
       res_.status.warnings.push_back(std::to_string(dup) + " duplicate point(s) merged (first: point " +
                                      std::to_string(dup_first) + " duplicates point " + std::to_string(dup_of) + ")");
+    } else {
+      // Every vertex is output as it is: the kernel's coordinate array, without G.
+      M.vertices = std::move(dh.pts);
+      M.vertices.pop_back();
     }
     // Triangles and hull edges in one pass; a ghost (a, b, G) stands for the hull edge
     // b -> a of the triangle inside.
     const std::size_t nt = dh.tris.size();
-    M.triangles.resize(nt);
-    std::size_t k = 0;
+    M.triangles.reserve(nt);
     auto emit = [&](auto id) {
       for (std::size_t t = 0; t < nt; ++t) {
         const auto& r = dh.tris[t];
-        if (HullDelaunay::ghost(r)) [[unlikely]] {
-          const int g = r.v[0] == HullDelaunay::kGhost ? 0 : r.v[1] == HullDelaunay::kGhost ? 1 : 2;
+        if (dh.ghost(r)) [[unlikely]] {
+          const int g = dh.ghost_corner(r);
           M.boundary_edges.push_back({id(r.v[detail::prev3(g)]), id(r.v[detail::next3(g)]), 1});
           continue;
         }
-        M.triangles[k++] = {id(r.v[0]), id(r.v[1]), id(r.v[2])};
+        M.triangles.push_back({id(r.v[0]), id(r.v[1]), id(r.v[2])});
       }
     };
     if (compact)
       emit([&](VertId v) { return out[v]; });
     else
-      emit([](VertId v) { return v - 1; });
-    M.triangles.resize(k);
+      emit([](VertId v) { return v; });
+    const std::size_t k = M.triangles.size();
     M.triangle_region.assign(k, 0);
     M.triangle_attribute.assign(k, 0.0);
   }

@@ -160,16 +160,16 @@ class Triangulation {
 //
 // Storage: per triangle three vertex ids and three twin half-edges; half-edge h = 4t + i
 // is edge i, opposite vertex i, as in Triangulation (4t rather than 3t: shifts instead of
-// divisions on the hot path; limits the fast path to 2^28 points). Vertex 0 is G; vertex k + 1 is the
-// k-th input point in insertion order (biased randomized insertion order, BRIO, with a
+// divisions on the hot path; limits the fast path to 2^28 points). Vertex k is the k-th
+// input point in insertion order (biased randomized insertion order, BRIO, with a
 // Hilbert order inside every round), so that consecutive insertions touch coordinates
 // and triangles close in memory as well as in the plane. Cavity triangles are reused for
 // the ball, so no slot ever dies: every triangle is live. Exact duplicates are found by
 // point location (a point on two edges of its triangle is their common vertex): their
-// vertex stays unused and is listed in dups.
+// vertex stays unused and is listed in dups. G is vertex n (after the input points), so
+// that without duplicates pts minus its last entry is the output vertex array as it is.
 class HullDelaunay {
  public:
-  static constexpr VertId kGhost = 0;
   struct Tri {
     VertId v[3];
     std::int32_t n[3];
@@ -179,9 +179,11 @@ class HullDelaunay {
   // distinct points, or all on one line (no triangle). Internal: a bug guard fired.
   Status build(const std::vector<Vec2>& in);
 
-  static bool ghost(const Tri& r) { return r.v[0] == kGhost || r.v[1] == kGhost || r.v[2] == kGhost; }
+  bool ghost(const Tri& r) const { return r.v[0] == ghost_id || r.v[1] == ghost_id || r.v[2] == ghost_id; }
+  int ghost_corner(const Tri& r) const { return r.v[0] == ghost_id ? 0 : r.v[1] == ghost_id ? 1 : 2; }
 
-  std::vector<Vec2> pts;          // vertex -> point (pts[0]: G, NaN coordinates)
+  VertId ghost_id = 0;            // G: the vertex after the last input point
+  std::vector<Vec2> pts;          // vertex -> point (pts[ghost_id]: G, NaN coordinates)
   std::vector<std::int32_t> src;  // vertex -> input point index
   std::vector<std::pair<VertId, VertId>> dups;  // (unused vertex, the equal vertex kept)
   std::vector<Tri> tris;          // real and ghost triangles, all live
