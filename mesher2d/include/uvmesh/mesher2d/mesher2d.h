@@ -116,7 +116,9 @@ struct BoundaryEdge {
 };
 
 struct Mesh {
-  std::vector<Vec2> vertices;
+  std::vector<Vec2> vertices;               // the mesher's order: find input point i at
+                                            // input_vertex[i] (no segments, holes, regions or
+                                            // refinement: the kernel's spatial insertion order)
   std::vector<int> vertex_markers;          // input markers; boundary splits inherit the
                                             // segment marker; interior vertices 0
   std::vector<std::array<VertId, 3>> triangles;  // counter-clockwise
