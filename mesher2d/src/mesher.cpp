@@ -40,6 +40,13 @@ constexpr double kMaxCoord = 1e100;
 // hole at h = 0.01: triangles with Q > 1.3 drop from 330 to 130 against strict gain).
 constexpr double kSmoothSkip = 0.97;
 constexpr double kSmoothAccept = 0.95;
+// Max-min relocation (maxmin_relocate) stops once the ball's worst 1/Q_K reaches this:
+// 1 / 1.15, a margin under the Q_M <= 1.2.
+constexpr double kMaxminStop = 1 / 1.15;
+// Targeted repair (Mesher::repair) works on triangles worse than this: Q_K > 1.18.
+constexpr double kRepairBad = 1 / 1.18;
+// Its work budget, in triangle evaluations per triangle of the mesh.
+constexpr std::int64_t kRepairWork = 20;
 
 std::string fmt_pt(Vec2 p) {
   char buf[96];
@@ -838,6 +845,110 @@ class Mesher {
     return (lb - la) / std::log(r);
   }
 
+  // Field points of a uniform field on the equilateral lattice of side h: in a constant
+  // metric the unit mesh whose every edge has length one (§7.5.2) is that lattice, and
+  // all its triangles are optimal. Lattice points closer than kFilterDist to an existing
+  // vertex (the boundary) are dropped by the kernel's filter; the band between the
+  // boundary and the lattice is then filled by saturation waves and repaired by the
+  // optimization. Rows are inserted in serpentine order, each point walking from the
+  // previous one.
+  void lattice_points(bool aniso) {
+    double xmin = 1e300, ymin = 1e300, xmax = -1e300, ymax = -1e300, area2 = 0;
+    const TriId nt = tri_.num_tris();
+    for (TriId t = 0; t < nt; ++t) {
+      if (!in_domain(t)) continue;
+      {
+        const Vec2 a = tri_.pts[tri_.tv[3 * t]], b = tri_.pts[tri_.tv[3 * t + 1]], c = tri_.pts[tri_.tv[3 * t + 2]];
+        area2 += (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+      }
+      for (int i = 0; i < 3; ++i) {
+        const Vec2 p = tri_.pts[tri_.tv[3 * t + i]];
+        xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x), ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
+      }
+    }
+    if (!(xmax > xmin) || !(ymax > ymin)) return;
+    const double h = h_uniform_, dy = 0.8660254037844386 * h;
+    const auto nx = static_cast<std::int64_t>((xmax - xmin) / h) + 2, ny = static_cast<std::int64_t>((ymax - ymin) / dy) + 2;
+    // A domain filling little of its bounding box (a thin diagonal strip) would make the
+    // scan mostly point location outside it: saturation alone does that case.
+    if (nx * ny > opt_.max_vertices || static_cast<double>(nx * ny) * h * dy > 8 * (0.5 * area2) + 64 * h * h) return;
+    InsertParams prm;
+    prm.m = m_uniform_;
+    prm.use_metric = aniso;
+    prm.min_dist = kFilterDist;
+    TriId hint = tri_.vtri[tri_.num_verts() - 1];
+    std::int64_t inserted = 0;
+    auto try_insert = [&](Vec2 p, TriId from) {
+      const TriId t = tri_.locate(p, from);
+      if (t == kNone) return false;
+      hint = t;
+      if (!in_domain(t)) return false;
+      const auto r = tri_.insert_point(p, t, prm);
+      if (r.status != InsertStatus::Inserted) return false;
+      hint = tri_.vtri[r.v];
+      vm_.push_back(m_uniform_);
+      rs_.push_back(1.0);
+      fixed_.push_back(0);
+      vmark_.push_back(0);
+      ++inserted;
+      return true;
+    };
+    // First the layer along the boundary (§7.4.3, the optimal point of each boundary
+    // edge: the apex of the equilateral triangle on it, inside), and before it one
+    // point on the bisector of every corner of 90-150 degrees (two triangles of half
+    // the angle there; the edges' apexes near it are then filtered out): the boundary
+    // vertices get the valence of their angle (round(theta / 60deg)) and the lattice's
+    // misfit is pushed off the fixed boundary to where every vertex can move.
+    {
+      const VertId nv = tri_.num_verts();
+      std::vector<VertId> nxt(nv, kNone), prv(nv, kNone);
+      std::vector<char> multi(nv, 0);
+      for (TriId t = 0; t < nt; ++t) {
+        if (!in_domain(t)) continue;
+        for (int i = 0; i < 3; ++i) {
+          if (tri_.seg[3 * t + i] == kNone) continue;
+          const VertId a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+          if (nxt[a] != kNone) multi[a] = 1;
+          if (prv[b] != kNone) multi[b] = 1;
+          nxt[a] = b;
+          prv[b] = a;
+        }
+      }
+      const auto& P = tri_.pts;
+      for (VertId v = 4; v < nv; ++v) {
+        if (multi[v] || nxt[v] == kNone || prv[v] == kNone) continue;
+        const Vec2 pv = P[v], pn = P[nxt[v]], pp = P[prv[v]];
+        const double ux = pn.x - pv.x, uy = pn.y - pv.y, wx = pp.x - pv.x, wy = pp.y - pv.y;
+        double th = std::atan2(ux * wy - uy * wx, ux * wx + uy * wy);  // from u to w, CCW
+        if (th < 0) th += 2 * 3.14159265358979323846;
+        if (th < 1.5 || th > 2.6) continue;  // about 86-149 degrees
+        const double lu = std::hypot(ux, uy), lw = std::hypot(wx, wy);
+        const double bx = ux / lu + wx / lw, by = uy / lu + wy / lw, bl = std::hypot(bx, by);
+        if (!(bl > 0)) continue;
+        const double r = std::min(h, 0.5 * (lu + lw));
+        try_insert({pv.x + r * bx / bl, pv.y + r * by / bl}, tri_.vtri[v]);
+      }
+      for (VertId a = 4; a < nv; ++a) {
+        const VertId b = nxt[a];
+        if (b == kNone || multi[a]) continue;
+        const Vec2 pa = P[a], pb = P[b];
+        // Left normal of a -> b (the domain side), scaled to the height of the equilateral.
+        try_insert({0.5 * (pa.x + pb.x) - 0.8660254037844386 * (pb.y - pa.y),
+                    0.5 * (pa.y + pb.y) + 0.8660254037844386 * (pb.x - pa.x)},
+                   tri_.vtri[a]);
+      }
+    }
+    for (std::int64_t j = 0; j < ny; ++j) {
+      if (over_time("refinement")) return;
+      const double y = ymin + (static_cast<double>(j) + 0.5) * dy;
+      for (std::int64_t i0 = 0; i0 < nx; ++i0) {
+        const std::int64_t i = (j & 1) ? nx - 1 - i0 : i0;
+        try_insert({xmin + (static_cast<double>(i) + ((j & 1) ? 0.5 : 0.0)) * h, y}, hint);
+      }
+    }
+    res_.stats.field_points_inserted += inserted;
+  }
+
   void refine() {
     const std::size_t nv = tri_.pts.size();
     vm_.resize(nv);
@@ -868,6 +979,7 @@ class Mesher {
       bool chained;  // follows the previous candidate on the same edge
       double r = 1;  // boundary size ratio (Options::boundary_gradation)
     };
+    if (size_.kind == SizeSpec::Kind::Uniform) lattice_points(aniso);
     std::vector<Cand> cands;
     EdgeSampler es;
     for (int wave = 0; wave < kMaxWaves && !field_error_; ++wave) {
@@ -1007,24 +1119,7 @@ class Mesher {
     std::vector<VertId> ring;  // the ball's opposite edges (ring[k], ring[k+1])
     const VertId nv = tri_.num_verts();
     for (VertId v = 4; v < nv; ++v) {
-      if (fixed_[v]) continue;
-      const TriId t0 = tri_.vtri[v];
-      if (t0 == kNone || !in_domain(t0)) continue;
-      ring.clear();
-      TriId t = t0;
-      bool ok = true;
-      do {
-        int k = 0;
-        while (tri_.tv[3 * t + k] != v) ++k;
-        ring.push_back(tri_.tv[3 * t + detail::next3(k)]);
-        const std::int32_t h = tri_.opp[3 * t + detail::next3(k)];  // edge (prev, v)
-        if (h == kNone) {
-          ok = false;
-          break;
-        }
-        t = h / 3;
-      } while (t != t0 && ring.size() < 64);
-      if (!ok || t != t0) continue;
+      if (fixed_[v] || !gather_ring(v, ring)) continue;
       const std::size_t n = ring.size();
       const auto& P = tri_.pts;
       const Vec2 pv = P[v];
@@ -1083,6 +1178,503 @@ class Mesher {
         }
       }
     }
+    return moved;
+  }
+
+  // The ring of vertex v (the ball's opposite edges (ring[k], ring[k+1]), counter-
+  // clockwise); false when v is on the box border or its ball is not closed.
+  bool gather_ring(VertId v, std::vector<VertId>& ring) const {
+    ring.clear();
+    const TriId t0 = tri_.vtri[v];
+    if (t0 == kNone || !in_domain(t0)) return false;
+    TriId t = t0;
+    do {
+      int k = 0;
+      while (tri_.tv[3 * t + k] != v) ++k;
+      ring.push_back(tri_.tv[3 * t + detail::next3(k)]);
+      const std::int32_t h = tri_.opp[3 * t + detail::next3(k)];  // edge (prev, v)
+      if (h == kNone) return false;
+      t = h / 3;
+    } while (t != t0 && ring.size() < 64);
+    return t == t0;
+  }
+
+  // Optimization-based relocation (§7.3.6 "metric techniques", max-min form): moves a
+  // vertex to raise the worst quality 1/Q_K of its ball, by steepest ascent of the worst
+  // triangles (the direction of least norm in the convex hull of the gradients of the
+  // nearly worst ones, so that no active triangle gets worse to first order) with a
+  // backtracking line search; every accepted step strictly raises the ball's minimum and
+  // keeps all ball triangles counter-clockwise (valid(p), exact orientation). Laplacian
+  // smoothing improves the mean but stalls where one triangle trades against another;
+  // this is what brings the worst elements of a uniform mesh under Q = 1.2.
+  // The ball is the closed ring fr_ (frame coordinates: Euclidean for a uniform field,
+  // the metric frame of the vertex otherwise); p is moved in place; returns the ball's
+  // minimum 1/Q_K at p (-1 if a triangle is inverted at the start).
+  template <class Valid>
+  double maxmin_core(Vec2& p, double qstop, int iters, Valid&& valid) {
+    const std::size_t n = fr_.size();
+    qk_.resize(n);
+    gk_.resize(n);
+    // q = area2 / (alpha * per * hmax) of (p, a, b) and its gradient in p.
+    auto eval = [&](Vec2 pp, bool grad) {
+      work_ += static_cast<std::int64_t>(n);
+      double qmin = 1e300;
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec2 a = fr_[k], b = fr_[k + 1 == n ? 0 : k + 1];
+        const double ux = a.x - pp.x, uy = a.y - pp.y, wx = b.x - pp.x, wy = b.y - pp.y;
+        const double ex = b.x - a.x, ey = b.y - a.y;
+        const double area2 = ux * wy - uy * wx;
+        if (!(area2 > 0)) return -1.0;
+        const double la = std::sqrt(ux * ux + uy * uy), lb = std::sqrt(wx * wx + wy * wy),
+                     le = std::sqrt(ex * ex + ey * ey);
+        const double per = la + lb + le, hm = std::max({la, lb, le});
+        const double q = area2 / (0.28867513459481287 * per * hm);
+        qk_[k] = q;
+        qmin = std::min(qmin, q);
+        if (grad) {
+          // d area2 = (-ey, ex); d per = -u/la - w/lb; d hmax = -u/la or -w/lb or 0.
+          double gx = -ey / area2 - (-ux / la - wx / lb) / per;
+          double gy = ex / area2 - (-uy / la - wy / lb) / per;
+          if (hm == la) gx += ux / (la * hm), gy += uy / (la * hm);
+          else if (hm == lb) gx += wx / (lb * hm), gy += wy / (lb * hm);
+          gk_[k] = {q * gx, q * gy};
+        }
+      }
+      return qmin;
+    };
+    double qmin = eval(p, true);
+    if (!(qmin > 0)) return qmin;
+    for (int it = 0; it < iters && qmin < qstop; ++it) {
+      // Active set: triangles within a small margin of the minimum.
+      const double tol = 0.02 * qmin;
+      Vec2 d{0, 0};
+      {
+        std::size_t act[8];
+        int na = 0;
+        for (std::size_t k = 0; k < n && na < 8; ++k)
+          if (qk_[k] <= qmin + tol) act[na++] = k;
+        // Least-norm point of the convex hull of the active gradients: the best of the
+        // single gradients and the pairwise segment projections that are ascent
+        // directions for every active triangle.
+        double best = -1;
+        auto consider = [&](Vec2 c) {
+          const double nn = c.x * c.x + c.y * c.y;
+          if (!(nn > 0)) return;
+          for (int j = 0; j < na; ++j)
+            if (gk_[act[j]].x * c.x + gk_[act[j]].y * c.y < 0.999 * nn) return;
+          if (best < 0 || nn < best) best = nn, d = c;
+        };
+        for (int i = 0; i < na; ++i) {
+          consider(gk_[act[i]]);
+          for (int j = i + 1; j < na; ++j) {
+            const Vec2 g1 = gk_[act[i]], g2 = gk_[act[j]];
+            const double dx = g2.x - g1.x, dy = g2.y - g1.y, dd = dx * dx + dy * dy;
+            if (!(dd > 0)) continue;
+            const double t = std::clamp(-(g1.x * dx + g1.y * dy) / dd, 0.0, 1.0);
+            consider({g1.x + t * dx, g1.y + t * dy});
+          }
+        }
+        if (best < 0) break;  // no common ascent direction: a local max-min optimum
+      }
+      const double dn2 = d.x * d.x + d.y * d.y;
+      // Linear prediction of the step where a non-active triangle becomes the worst,
+      // capped at a tenth of the local edge length.
+      double step = 1e300;
+      for (std::size_t k = 0; k < n; ++k) {
+        const double slope = gk_[k].x * d.x + gk_[k].y * d.y;
+        if (slope < dn2 && qk_[k] > qmin + tol) step = std::min(step, (qk_[k] - qmin) / (dn2 - slope));
+      }
+      const double ex = fr_[0].x - p.x, ey = fr_[0].y - p.y;
+      step = std::min(step, 0.1 * std::sqrt((ex * ex + ey * ey) / dn2));
+      bool took = false;
+      for (int ls = 0; ls < 6; ++ls, step *= 0.5) {
+        const Vec2 np{p.x + step * d.x, p.y + step * d.y};
+        const double nq = eval(np, false);
+        if (nq > qmin * (1 + 1e-9) && valid(np)) {
+          p = np;
+          took = true;
+          break;
+        }
+      }
+      if (!took) break;
+      qmin = eval(p, true);
+    }
+    return qmin;
+  }
+  // Relocation by descent of F = sum over the ball of Q_K^p (p = kPnorm): smooth where
+  // the max-min is not, so that a sweep over a neighbourhood unpins vertices whose worst
+  // triangles hold each other at a kink of the max-min (measured at the corners of the
+  // square: Q_M stayed at 1.2005 after max-min sweeps). Same frame and validity as
+  // maxmin_core; returns true when p moved.
+  template <class Valid>
+  bool pnorm_core(Vec2& p, Valid&& valid) {
+    constexpr double kPnorm = 8;  // the power in term below
+    const std::size_t n = fr_.size();
+    // F and its gradient, with Q_K scaled by s (the ball's initial worst) to stay finite.
+    double s = 0;
+    auto eval = [&](Vec2 pp, bool grad, Vec2& g) {
+      work_ += static_cast<std::int64_t>(n);
+      double F = 0;
+      g = {0, 0};
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec2 a = fr_[k], b = fr_[k + 1 == n ? 0 : k + 1];
+        const double ux = a.x - pp.x, uy = a.y - pp.y, wx = b.x - pp.x, wy = b.y - pp.y;
+        const double ex = b.x - a.x, ey = b.y - a.y;
+        const double area2 = ux * wy - uy * wx;
+        if (!(area2 > 0)) return 1e300;
+        const double la = std::sqrt(ux * ux + uy * uy), lb = std::sqrt(wx * wx + wy * wy),
+                     le = std::sqrt(ex * ex + ey * ey);
+        const double per = la + lb + le, hm = std::max({la, lb, le});
+        const double Q = 0.28867513459481287 * per * hm / area2;
+        if (s == 0) continue;
+        const double r2 = (Q / s) * (Q / s), r4 = r2 * r2, term = r4 * r4;  // (Q / s)^8
+        F += term;
+        if (grad) {
+          // d log Q = d per / per + d hmax / hmax - d area2 / area2.
+          double gx = (-ux / la - wx / lb) / per + ey / area2;
+          double gy = (-uy / la - wy / lb) / per - ex / area2;
+          if (hm == la) gx -= ux / (la * hm), gy -= uy / (la * hm);
+          else if (hm == lb) gx -= wx / (lb * hm), gy -= wy / (lb * hm);
+          g.x += kPnorm * term * gx;
+          g.y += kPnorm * term * gy;
+        }
+      }
+      return F;
+    };
+    Vec2 g;
+    // First call finds the scale: the worst Q of the ball.
+    {
+      double worst = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec2 a = fr_[k], b = fr_[k + 1 == n ? 0 : k + 1];
+        const double q = q_inv(p, a, b);
+        if (!(q > 0)) return false;
+        worst = std::max(worst, 1 / q);
+      }
+      s = worst;
+    }
+    double F = eval(p, true, g);
+    bool moved = false;
+    for (int it = 0; it < 4; ++it) {
+      const double gn = std::sqrt(g.x * g.x + g.y * g.y);
+      if (!(gn > 0)) break;
+      const double ex = fr_[0].x - p.x, ey = fr_[0].y - p.y;
+      double step = 0.05 * std::sqrt(ex * ex + ey * ey) / gn;
+      bool took = false;
+      for (int ls = 0; ls < 8; ++ls, step *= 0.5) {
+        const Vec2 np{p.x - step * g.x, p.y - step * g.y};
+        Vec2 ng;
+        const double nF = eval(np, false, ng);
+        if (nF < F && valid(np)) {
+          p = np;
+          took = true;
+          break;
+        }
+      }
+      if (!took) break;
+      moved = true;
+      F = eval(p, true, g);
+    }
+    return moved;
+  }
+  bool pnorm_relocate(VertId v, std::vector<VertId>& ring) {
+    if (fixed_[v] || !gather_ring(v, ring)) return false;
+    const detail::MetricFrame f = frame_of(v);
+    load_ring(f, ring);
+    Vec2 p = iso_uniform_ ? tri_.pts[v] : f(tri_.pts[v]);
+    if (!pnorm_core(p, [&](Vec2 fp) { return ball_valid(f, fp, ring); })) return false;
+    set_position(v, iso_uniform_ ? p : f.inv(p));
+    return true;
+  }
+
+  // Frame of vertex v's metric (identity for a uniform field) and the exact validity of
+  // a ball (p, ring[k], ring[k+1]) with p given in that frame.
+  detail::MetricFrame frame_of(VertId v) const { return detail::MetricFrame(iso_uniform_ ? Metric2{} : vm_[v]); }
+  bool ball_valid(const detail::MetricFrame& f, Vec2 fp, const std::vector<VertId>& ring) const {
+    const Vec2 q = iso_uniform_ ? fp : f.inv(fp);
+    const auto& P = tri_.pts;
+    const std::size_t n = ring.size();
+    for (std::size_t k = 0; k < n; ++k)
+      if (!(pred::orient2d(&q.x, &P[ring[k]].x, &P[ring[k + 1 == n ? 0 : k + 1]].x) > 0)) return false;
+    return true;
+  }
+  void load_ring(const detail::MetricFrame& f, const std::vector<VertId>& ring) {
+    fr_.resize(ring.size());
+    for (std::size_t k = 0; k < ring.size(); ++k) fr_[k] = iso_uniform_ ? tri_.pts[ring[k]] : f(tri_.pts[ring[k]]);
+  }
+  void set_position(VertId v, Vec2 q) {
+    tri_.pts[v] = q;
+    if (!iso_uniform_) {
+      vm_[v] = metric(q.x, q.y);
+      if (static_cast<std::size_t>(v) < rs_.size() && rs_[v] < 1) vm_[v] = detail::scaled(vm_[v], 1.0 / (rs_[v] * rs_[v]));
+    }
+  }
+
+  bool maxmin_relocate(VertId v, std::vector<VertId>& ring, double qstop, int iters) {
+    if (fixed_[v] || !gather_ring(v, ring)) return false;
+    const detail::MetricFrame f = frame_of(v);
+    load_ring(f, ring);
+    const Vec2 p0 = iso_uniform_ ? tri_.pts[v] : f(tri_.pts[v]);
+    Vec2 p = p0;
+    maxmin_core(p, qstop, iters, [&](Vec2 fp) { return ball_valid(f, fp, ring); });
+    if (p.x == p0.x && p.y == p0.y) return false;
+    set_position(v, iso_uniform_ ? p : f.inv(p));
+    return true;
+  }
+
+  // ------------------------------------------------------------ targeted repair
+  // The worst elements left by relocation and swaps sit where the point pattern is
+  // strained (rows of the saturation too far apart or too close for their spacing) or
+  // where the valence is wrong; no relocation fixes those. Each bad triangle is tried
+  // with, in turn: max-min relocation of its vertices, an edge swap, the collapse of one
+  // of its edges (§7.3.6 "remove edges by merging their endpoints") and the split of its
+  // longest edge. A topological operation is taken only when the worst 1/Q_K of the
+  // triangles it replaces strictly rises (the new vertex placed by maxmin_core first), so
+  // the sorted quality vector rises with every change and the loop terminates.
+  double tri_q(VertId a, VertId b, VertId c) const {
+    const auto& P = tri_.pts;
+    if (iso_uniform_) return q_inv(P[a], P[b], P[c]);
+    const detail::MetricFrame f(detail::mean3(vm_[a], vm_[b], vm_[c]));
+    return q_inv(f(P[a]), f(P[b]), f(P[c]));
+  }
+  double tri_q(TriId t) const { return tri_q(tri_.tv[3 * t], tri_.tv[3 * t + 1], tri_.tv[3 * t + 2]); }
+  double ball_min(VertId v, const std::vector<VertId>& ring) const {
+    double m = 1e300;
+    for (std::size_t k = 0; k < ring.size(); ++k) m = std::min(m, tri_q(v, ring[k], ring[k + 1 == ring.size() ? 0 : k + 1]));
+    return m;
+  }
+  bool has_constrained_edge(VertId v) const {
+    const TriId t0 = tri_.vtri[v];
+    TriId t = t0;
+    int guard = 0;
+    do {
+      int k = 0;
+      while (tri_.tv[3 * t + k] != v) ++k;
+      if (tri_.seg[3 * t + detail::next3(k)] != kNone || tri_.seg[3 * t + detail::prev3(k)] != kNone) return true;
+      const std::int32_t h = tri_.opp[3 * t + detail::next3(k)];
+      if (h == kNone || ++guard > 256) return true;
+      t = h / 3;
+    } while (t != t0);
+    return false;
+  }
+
+  bool try_swap(TriId t) {
+    for (int i = 0; i < 3; ++i) {
+      const std::int32_t h = 3 * t + i;
+      if (tri_.seg[h] != kNone || tri_.opp[h] == kNone) continue;
+      const std::int32_t g = tri_.opp[h];
+      const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+      const VertId d = tri_.tv[g];
+      const double before = std::min(tri_q(c, a, b), tri_q(d, b, a));
+      const double after = std::min(tri_q(c, a, d), tri_q(d, b, c));
+      if (after > before * (1 + 1e-9) && tri_.flippable(h)) {
+        tri_.flip(h);
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Collapse of an edge of t: v (free, no constrained edge) merges into u. When u is
+  // free too the merged vertex is placed by maxmin_core on the union of both rings.
+  bool try_collapse(TriId t) {
+    std::array<std::pair<double, int>, 3> order;
+    const auto& P = tri_.pts;
+    for (int i = 0; i < 3; ++i) {
+      const Vec2 a = P[tri_.tv[3 * t + detail::next3(i)]], b = P[tri_.tv[3 * t + detail::prev3(i)]];
+      order[i] = {(a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y), i};
+    }
+    std::sort(order.begin(), order.end());
+    for (const auto& [len, i] : order) {
+      const VertId e0 = tri_.tv[3 * t + detail::next3(i)], e1 = tri_.tv[3 * t + detail::prev3(i)];
+      for (const auto [v, u] : {std::pair{e0, e1}, std::pair{e1, e0}}) {
+        if (fixed_[v] || has_constrained_edge(v) || !gather_ring(v, rv_)) continue;
+        double old_min = ball_min(v, rv_);
+        Vec2 p;
+        if (fixed_[u]) {
+          // u stays: the new triangles are v's ball with v at u, minus the two on (u, v).
+          p = P[u];
+          double nmin = 1e300;
+          const std::size_t n = rv_.size();
+          bool ok = true;
+          for (std::size_t k = 0; k < n && ok; ++k) {
+            const VertId a = rv_[k], b = rv_[k + 1 == n ? 0 : k + 1];
+            if (a == u || b == u) continue;
+            if (!(pred::orient2d(&p.x, &P[a].x, &P[b].x) > 0)) ok = false;
+            else nmin = std::min(nmin, tri_q(u, a, b));
+          }
+          if (!ok || !(nmin > old_min * (1 + 1e-9))) continue;
+        } else {
+          if (has_constrained_edge(u) || !gather_ring(u, ru_)) continue;
+          old_min = std::min(old_min, ball_min(u, ru_));
+          // Merged ring: u's ring from x to y, then v's ring after y up to before x, where
+          // v's ring reads (.., x, u, y, ..) and u's ring (.., y, v, x, ..).
+          const std::size_t nv = rv_.size(), nu = ru_.size();
+          std::size_t iu = 0, iv = 0;
+          while (iu < nv && rv_[iu] != u) ++iu;
+          while (iv < nu && ru_[iv] != v) ++iv;
+          if (iu == nv || iv == nu) continue;
+          const VertId x = rv_[(iu + nv - 1) % nv], y = rv_[(iu + 1) % nv];
+          if (ru_[(iv + 1) % nu] != x || ru_[(iv + nu - 1) % nu] != y) continue;
+          merged_.clear();
+          for (std::size_t k = (iv + 1) % nu; k != iv; k = (k + 1) % nu) merged_.push_back(ru_[k]);  // x .. y
+          for (std::size_t k = (iu + 2) % nv; k != (iu + nv - 1) % nv; k = (k + 1) % nv) merged_.push_back(rv_[k]);
+          // The link condition: no vertex twice.
+          std::vector<VertId> srt = merged_;
+          std::sort(srt.begin(), srt.end());
+          if (std::adjacent_find(srt.begin(), srt.end()) != srt.end()) continue;
+          const detail::MetricFrame f = frame_of(u);
+          load_ring(f, merged_);
+          const Vec2 mid{0.5 * (P[u].x + P[v].x), 0.5 * (P[u].y + P[v].y)};
+          double best = -1;
+          Vec2 bp{};
+          for (const Vec2 s0 : {mid, P[u], P[v]}) {
+            Vec2 fp = iso_uniform_ ? s0 : f(s0);
+            if (!ball_valid(f, fp, merged_)) continue;
+            const double q = maxmin_core(fp, 2.0, 12, [&](Vec2 z) { return ball_valid(f, z, merged_); });
+            if (q > best) best = q, bp = fp;
+            if (best > old_min) break;
+          }
+          if (!(best > old_min * (1 + 1e-9))) continue;
+          p = iso_uniform_ ? bp : f.inv(bp);
+        }
+        if (tri_.collapse_edge(v, u, p)) {
+          set_position(u, p);
+          return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  // Split of the longest edge of t at its midpoint; the new vertex's ring then absorbs
+  // the triangles across its four outer edges where that raises the worst quality (the
+  // swaps that follow a split), and the vertex is placed by maxmin_core.
+  bool try_split(TriId t) {
+    const auto& P = tri_.pts;
+    int i = 0;
+    double lmax = -1;
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 a = P[tri_.tv[3 * t + detail::next3(k)]], b = P[tri_.tv[3 * t + detail::prev3(k)]];
+      const double l = (a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y);
+      if (l > lmax) lmax = l, i = k;
+    }
+    const std::int32_t h = 3 * t + i;
+    if (tri_.seg[h] != kNone || tri_.opp[h] == kNone) return false;
+    const std::int32_t g = tri_.opp[h];
+    if (!in_domain(g / 3)) return false;
+    const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+    const VertId d = tri_.tv[g];
+    const Vec2 m{0.5 * (P[a].x + P[b].x), 0.5 * (P[a].y + P[b].y)};
+    double old_min = std::min(tri_q(t), tri_q(g / 3));
+    // Ring of the new vertex, counter-clockwise: c, a, d, b.
+    merged_.assign({c, a, d, b});
+    absorbed_.clear();
+    for (std::size_t k = 0; k < merged_.size() && merged_.size() < 12; ++k) {
+      const VertId r0 = merged_[k], r1 = merged_[k + 1 == merged_.size() ? 0 : k + 1];
+      const std::int32_t e = tri_.find_half_edge(r1, r0);  // the outer triangle (r1, r0, x)
+      if (e == kNone || tri_.seg[e] != kNone || !in_domain(e / 3)) continue;
+      const VertId x = tri_.tv[e];
+      const double qo = tri_q(e / 3);
+      if (!(pred::orient2d(&m.x, &P[r0].x, &P[x].x) > 0) || !(pred::orient2d(&m.x, &P[x].x, &P[r1].x) > 0)) continue;
+      const double before = std::min(qo, q_of_point(m, r0, r1));
+      const double after = std::min(q_of_point(m, r0, x), q_of_point(m, x, r1));
+      if (!(after > before)) continue;
+      old_min = std::min(old_min, qo);
+      absorbed_.push_back({r0, r1});
+      merged_.insert(merged_.begin() + static_cast<std::ptrdiff_t>(k) + 1, x);
+      --k;  // the new edge (r0, x) is looked at next
+    }
+    const detail::MetricFrame f = frame_of(a);
+    load_ring(f, merged_);
+    Vec2 fp = iso_uniform_ ? m : f(m);
+    const double q = maxmin_core(fp, 2.0, 12, [&](Vec2 z) { return ball_valid(f, z, merged_); });
+    if (!(q > old_min * (1 + 1e-9))) return false;
+    const VertId nv = tri_.split_edge(h, m);
+    if (nv == kNone) return false;
+    vm_.push_back(vm_[a]);
+    rs_.push_back(1.0);
+    fixed_.push_back(0);
+    vmark_.push_back(0);
+    for (const auto& [r0, r1] : absorbed_) {
+      const std::int32_t e = tri_.find_half_edge(r0, r1);
+      if (e != kNone && tri_.flippable(e)) tri_.flip(e);
+    }
+    // A flip refused above leaves another ring than the one fp was placed for: keep the
+    // midpoint then (valid: split_edge checked it).
+    if (gather_ring(nv, rv_) && ball_valid(f, fp, rv_)) set_position(nv, iso_uniform_ ? fp : f.inv(fp));
+    return true;
+  }
+  double q_of_point(Vec2 p, VertId a, VertId b) const {
+    const auto& P = tri_.pts;
+    if (iso_uniform_) return q_inv(p, P[a], P[b]);
+    const detail::MetricFrame f(detail::mean3(vm_[a], vm_[b], vm_[b]));
+    return q_inv(f(p), f(P[a]), f(P[b]));
+  }
+
+  void repair(double qbad, int rounds) {
+    std::vector<TriId> bad;
+    std::vector<VertId> ring;
+    // Work budget (triangle evaluations): where bad elements cannot be repaired (small
+    // input angles between fixed boundary edges) the loop would otherwise try them all,
+    // round after round. A uniform unit mesh needs a small fraction of it.
+    const std::int64_t budget = work_ + kRepairWork * static_cast<std::int64_t>(tri_.num_tris()) + 100000;
+    for (int round = 0; round < rounds; ++round) {
+      if (over_time("optimization") || work_ > budget) return;
+      bad.clear();
+      const TriId nt = tri_.num_tris();
+      for (TriId t = 0; t < nt; ++t)
+        if (in_domain(t) && tri_q(t) < qbad) bad.push_back(t);
+      if (bad.empty()) break;
+      std::int64_t changes = 0;
+      for (const TriId t : bad) {
+        if (work_ > budget) return;
+        if (!in_domain(t) || !(tri_q(t) < qbad)) continue;
+        for (int k = 0; k < 3; ++k) changes += maxmin_relocate(tri_.tv[3 * t + k], ring, 2.0, 8);
+        if (!(tri_q(t) < qbad)) continue;
+        // A vertex can be held by its neighbours (its ball's worst triangles pinned
+        // against each other): relax the neighbours of the triangle's vertices, then the
+        // vertices again.
+        // The positions are restored unless the worst triangle around them improved.
+        {
+          saved_.clear();
+          for (int k = 0; k < 3; ++k) {
+            const VertId c = tri_.tv[3 * t + k];
+            saved_.push_back({c, tri_.pts[c]});
+            if (!gather_ring(c, nbr_)) continue;
+            for (const VertId w : nbr_) saved_.push_back({w, tri_.pts[w]});
+          }
+          auto region_min = [&] {
+            double m = 1e300;
+            for (const auto& [w, pw] : saved_)
+              if (!fixed_[w] && gather_ring(w, ring)) m = std::min(m, ball_min(w, ring));
+            return m;
+          };
+          const double before = region_min();
+          bool any = false;
+          for (int sweep = 0; sweep < 3; ++sweep)
+            for (const auto& [w, pw] : saved_) any |= pnorm_relocate(w, ring);
+          for (int k = 0; k < 3; ++k) any |= maxmin_relocate(tri_.tv[3 * t + k], ring, 2.0, 8);
+          if (any && !(region_min() > before)) {
+            for (const auto& [w, pw] : saved_) set_position(w, pw);
+          } else if (any) {
+            ++changes;
+          }
+        }
+        if (!(tri_q(t) < qbad)) continue;
+        if (try_swap(t)) { ++changes; continue; }
+        if (try_collapse(t)) { ++changes; continue; }
+        if (try_split(t)) { ++changes; continue; }
+      }
+      if (changes == 0) break;
+    }
+  }
+
+  std::int64_t maxmin_pass(double qstop, int iters) {
+    std::int64_t moved = 0;
+    std::vector<VertId> ring;
+    const VertId nv = tri_.num_verts();
+    for (VertId v = 4; v < nv; ++v) moved += maxmin_relocate(v, ring, qstop, iters);
     return moved;
   }
 
@@ -1179,6 +1771,19 @@ class Mesher {
       if (s == 0 && r < kSmoothSettled * tri_.num_verts()) break;
     }
     res_.stats.swaps += swap_pass();
+    // Max-min relocation and the targeted repair judge each ball in one frame (that of
+    // the moved vertex); under a metric that varies across the ball (bl, ring, CAD
+    // faces) that frame misjudges the sizes (measured on ring:0.002,0.02: unit edges
+    // 0.97 -> 0.91), so they run for isotropic fields only.
+    if (size_.kind == SizeSpec::Kind::Metric) return;
+    for (int pass = 0; pass < 6; ++pass) {
+      const std::int64_t r = maxmin_pass(kMaxminStop, 8);
+      const std::int64_t s = swap_pass();
+      res_.stats.relocations += r;
+      res_.stats.swaps += s;
+      if (r == 0 && s == 0) break;
+    }
+    if (iso_uniform_) repair(kRepairBad, 12);
   }
 
   // ---------------------------------------------------------------- checks, output
@@ -1267,6 +1872,12 @@ class Mesher {
   bool refine_ok_ = true;
   bool field_error_ = false;
   bool iso_uniform_ = false;
+  std::vector<Vec2> fr_, gk_;  // maxmin_relocate scratch: ring in the frame, gradients
+  std::vector<VertId> rv_, ru_, merged_, nbr_;  // repair scratch: rings
+  std::vector<std::pair<VertId, Vec2>> saved_;
+  std::int64_t work_ = 0;  // triangle evaluations of maxmin_core / pnorm_core
+  std::vector<std::pair<VertId, VertId>> absorbed_;
+  std::vector<double> qk_;
 };
 
 }  // namespace

@@ -101,6 +101,13 @@ class Triangulation {
   // Flips the edge of half-edge h; the quad must be strictly convex.
   void flip(std::int32_t h);
   bool flippable(std::int32_t h) const;  // strictly convex quad, not on the box border
+  // Local operators for optimization (triangulation_local_ops.cpp, §7.3.6):
+  // collapse_edge merges v into u and puts u at p (v has no constrained edge; the link
+  // condition holds; every remaining triangle stays CCW), else returns false and changes
+  // nothing. split_edge splits the unconstrained edge of half-edge h at p (inside the
+  // quad of its two triangles) into four triangles; returns the new vertex or kNone.
+  bool collapse_edge(VertId v, VertId u, Vec2 p);
+  VertId split_edge(std::int32_t h, Vec2 p);
   // Lawson flips (constrained Delaunay) starting from the given edges (as half-edges).
   void restore_delaunay(std::vector<std::pair<VertId, VertId>>& stack);
 
@@ -144,6 +151,7 @@ class Triangulation {
   };
   std::vector<BoundaryEdge> bd_;
   std::vector<TriId> nt_;
+  std::vector<VertId> nb_scratch_;  // collapse_edge
   mutable std::uint64_t rng_ = 0x9E3779B97F4A7C15ull;
 };
 

@@ -1,11 +1,10 @@
 // Quality and sizing of refined meshes (issue 2, "Tests: Sizing / Quality").
 //
-// Thresholds: the sizing and the anisotropic-quality thresholds are the issue's. The
-// isotropic shape thresholds are what the mesher achieves today (Q_M <= 1.6, min angle
-// >= 30 deg, >= 97% of triangles with Q < 1.3); the issue asks for Q_M <= 1.2 and min
-// angle >= 40 deg, which is NOT met yet (measured Q_M 1.39-1.51 on these domains): the
-// edge-saturation point placement plus Laplacian relocation leaves a few hundred
-// triangles per 10^4 between 1.2 and 1.5. Tightening these bounds is the next step.
+// Thresholds are the issue's: >= 95% unit edges on every analytic field; at uniform size
+// on the unit square and the square with a circular hole Q_M <= 1.2 and min angle >= 40
+// deg (lattice field points with a boundary layer, max-min relocation and the targeted
+// repair of mesher.cpp); on bl and ring metric Q_M <= 2 and >= 95% of triangles with
+// metric Q < 1.5.
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -56,19 +55,24 @@ void require_valid(const Result& r, const Pslg& in) {
   REQUIRE(rep.ok());
 }
 
+// The issue's isotropic thresholds at uniform size h.
+Result require_uniform_quality(const Pslg& in, double h) {
+  Result r = mesh(in, SizeSpec::uniform(h));
+  require_valid(r, in);
+  const Quality& q = r.stats.quality;
+  INFO("h = " << h << " Q_M = " << q.q_max << " min angle " << q.min_angle_deg << " unit " << q.unit_edge_share);
+  CHECK(q.unit_edge_share >= 0.95);
+  CHECK(q.q_max <= 1.2);
+  CHECK(q.min_angle_deg >= 40);
+  CHECK(share_below(r.mesh, SizeSpec::uniform(h), 1.1) >= 0.75);  // measured 0.82-0.94
+  return r;
+}
+
 }  // namespace
 
 TEST_CASE("uniform size on the unit square: unit edges and shape", "[quality]") {
   for (const double h : {0.05, 0.02, 0.01}) {
-    const Pslg in = unit_square();
-    const Result r = mesh(in, SizeSpec::uniform(h));
-    require_valid(r, in);
-    const Quality& q = r.stats.quality;
-    INFO("h = " << h << " Q_M = " << q.q_max << " min angle " << q.min_angle_deg << " unit " << q.unit_edge_share);
-    CHECK(q.unit_edge_share >= 0.95);
-    CHECK(q.q_max <= 1.6);
-    CHECK(q.min_angle_deg >= 30);
-    CHECK(share_below(r.mesh, SizeSpec::uniform(h), 1.3) >= 0.97);
+    const Result r = require_uniform_quality(unit_square(), h);
     // The triangle count of a unit mesh is close to the area over the area of a unit
     // equilateral triangle (sqrt(3)/4 h^2).
     const double expected = 1.0 / (0.4330127018922193 * h * h);
@@ -80,15 +84,32 @@ TEST_CASE("uniform size on the unit square: unit edges and shape", "[quality]") 
 TEST_CASE("uniform size on the square with a circular hole", "[quality]") {
   for (const double h : {0.03, 0.01}) {
     // The hole's polygon has edges of about h, as a boundary discretized at size h has.
-    const Pslg in = square_with_hole(static_cast<int>(std::lround(2 * 3.14159265358979 * 0.25 / h)));
-    const Result r = mesh(in, SizeSpec::uniform(h));
-    require_valid(r, in);
-    const Quality& q = r.stats.quality;
-    INFO("h = " << h << " Q_M = " << q.q_max << " min angle " << q.min_angle_deg << " unit " << q.unit_edge_share);
-    CHECK(q.unit_edge_share >= 0.95);
-    CHECK(q.q_max <= 1.6);
-    CHECK(q.min_angle_deg >= 30);
-    CHECK(share_below(r.mesh, SizeSpec::uniform(h), 1.3) >= 0.97);
+    require_uniform_quality(square_with_hole(static_cast<int>(std::lround(2 * 3.14159265358979 * 0.25 / h))), h);
+  }
+}
+
+TEST_CASE("uniform size on the square with a hole as the bench discretizes it", "[quality]") {
+  // bench_mesher2d's domain: every boundary piece shorter than h (ceil(1/h) per side of the
+  // square, ceil(2 pi r / h) on the circle), so that the boundary spacing is not h and the
+  // corners' 90-degree angles meet pieces of 1/ceil(1/h).
+  const double pi = 3.14159265358979323846;
+  for (const double h : {0.0095, 0.0043}) {
+    Pslg in;
+    const int ns = static_cast<int>(std::ceil(1.0 / h));
+    const Vec2 c[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (int k = 0; k < 4; ++k)
+      for (int i = 0; i < ns; ++i) {
+        const double t = static_cast<double>(i) / ns;
+        in.points.push_back({c[k].x + t * (c[(k + 1) % 4].x - c[k].x), c[k].y + t * (c[(k + 1) % 4].y - c[k].y)});
+      }
+    const int n0 = static_cast<int>(in.points.size());
+    for (int i = 0; i < n0; ++i) in.segments.push_back({i, (i + 1) % n0, 1});
+    const int nc = static_cast<int>(std::ceil(2 * pi * 0.25 / h));
+    for (int i = 0; i < nc; ++i)
+      in.points.push_back({0.5 + 0.25 * std::cos(2 * pi * i / nc), 0.5 + 0.25 * std::sin(2 * pi * i / nc)});
+    for (int i = 0; i < nc; ++i) in.segments.push_back({n0 + i, n0 + (i + 1) % nc, 2});
+    in.holes.push_back({0.5, 0.5});
+    require_uniform_quality(in, h);
   }
 }
 
