@@ -49,6 +49,13 @@ double triangle_quality(Vec2 a, Vec2 b, Vec2 c, const Metric2& m) {
 
 Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<VertId, 3>>& tris,
                 const SizeSpec& size) {
+  return detail::measure_with_edges(vertices, tris, size, nullptr);
+}
+
+namespace detail {
+
+Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<std::array<VertId, 3>>& tris,
+                           const SizeSpec& size, std::vector<std::uint64_t>* known_edges) {
   Quality out;
   if (tris.empty()) return out;
   const bool has_metric = !(size.kind == SizeSpec::Kind::Uniform && size.h <= 0);
@@ -73,9 +80,11 @@ Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<
     if (has_metric) {
       // Shape in the metric: the mean of the vertex metrics (a convex combination of SPD
       // tensors is SPD) stands for the metric over K.
-      const Metric2 m = detail::mean3(vm[t[0]], vm[t[1]], vm[t[2]]);
-      const detail::MetricFrame f(m);
-      const Shape ms = shape(f(a), f(b), f(c));
+      // A uniform field's metric is a scaling: the shape is the Euclidean one.
+      const Shape ms = size.kind == SizeSpec::Kind::Uniform ? s : [&] {
+        const detail::MetricFrame f(detail::mean3(vm[t[0]], vm[t[1]], vm[t[2]]));
+        return shape(f(a), f(b), f(c));
+      }();
       out.metric_q_max = std::max(out.metric_q_max, ms.q);
       mqsum += ms.q;
       mn15 += ms.q < 1.5;
@@ -107,16 +116,20 @@ Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<
 
   // Unit-edge share: every undirected edge once, length in the metric by eq. 7.10 with
   // Simpson's rule on the true field (endpoints and midpoint).
-  std::vector<std::uint64_t> edges;
-  edges.reserve(tris.size() * 3);
-  for (const auto& t : tris)
-    for (int i = 0; i < 3; ++i) {
-      std::uint64_t a = static_cast<std::uint32_t>(t[i]), b = static_cast<std::uint32_t>(t[(i + 1) % 3]);
-      if (a > b) std::swap(a, b);
-      edges.push_back(a << 32 | b);
-    }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  // (known_edges: every undirected edge once, given by a caller that has the adjacency.)
+  std::vector<std::uint64_t> own;
+  if (!known_edges) {
+    own.reserve(tris.size() * 3);
+    for (const auto& t : tris)
+      for (int i = 0; i < 3; ++i) {
+        std::uint64_t a = static_cast<std::uint32_t>(t[i]), b = static_cast<std::uint32_t>(t[(i + 1) % 3]);
+        if (a > b) std::swap(a, b);
+        own.push_back(a << 32 | b);
+      }
+    std::sort(own.begin(), own.end());
+    own.erase(std::unique(own.begin(), own.end()), own.end());
+  }
+  const std::vector<std::uint64_t>& edges = known_edges ? *known_edges : own;
   std::int64_t unit = 0;
   double lsum = 0;
   out.edge_len_min = std::numeric_limits<double>::infinity();
@@ -136,5 +149,7 @@ Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<
   out.edge_len_mean = lsum / static_cast<double>(edges.size());
   return out;
 }
+
+}  // namespace detail
 
 }  // namespace uvmesh::m2d

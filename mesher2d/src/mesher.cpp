@@ -132,7 +132,7 @@ class Mesher {
     output();
     stage("output", t0);
     if (field_error_) return;
-    res_.stats.quality = measure(res_.mesh.vertices, res_.mesh.triangles, measure_spec());
+    res_.stats.quality = detail::measure_with_edges(res_.mesh.vertices, res_.mesh.triangles, measure_spec(), &edges_);
     stage("measure", t0);
     if (opt_.check) {
       CheckReport rep = check(res_.mesh, in_, {.delaunay = !opt_.refine});
@@ -872,6 +872,14 @@ class Mesher {
     // A domain filling little of its bounding box (a thin diagonal strip) would make the
     // scan mostly point location outside it: saturation alone does that case.
     if (nx * ny > opt_.max_vertices || static_cast<double>(nx * ny) * h * dy > 8 * (0.5 * area2) + 64 * h * h) return;
+    {
+      // Room for the points to come (about the area over a lattice cell), so that the
+      // arrays do not grow by reallocation while they are inserted.
+      const auto nv = static_cast<std::size_t>(tri_.num_verts()) + static_cast<std::size_t>(0.55 * area2 / (h * dy)) + 1024;
+      tri_.pts.reserve(nv), tri_.vtri.reserve(nv);
+      tri_.tv.reserve(6 * nv), tri_.opp.reserve(6 * nv), tri_.seg.reserve(6 * nv), tri_.tag.reserve(2 * nv);
+      vm_.reserve(nv), rs_.reserve(nv), fixed_.reserve(nv), vmark_.reserve(nv);
+    }
     InsertParams prm;
     prm.m = m_uniform_;
     prm.use_metric = aniso;
@@ -947,6 +955,7 @@ class Mesher {
       }
     }
     res_.stats.field_points_inserted += inserted;
+    lattice_used_ = true;
   }
 
   void refine() {
@@ -1612,6 +1621,39 @@ class Mesher {
     return q_inv(f(p), f(P[a]), f(P[b]));
   }
 
+  // Rounds of max-min relocation of the vertices of triangles worse than qstop, and
+  // swaps of their edges.
+  void targeted_pass(double qstop, int rounds) {
+    std::vector<TriId> bad;
+    std::vector<VertId> ring;
+    std::vector<char> seen(tri_.num_verts(), 0);
+    for (int round = 0; round < rounds; ++round) {
+      if (over_time("optimization")) return;
+      bad.clear();
+      const TriId nt = tri_.num_tris();
+      for (TriId t = 0; t < nt; ++t)
+        if (in_domain(t) && tri_q(t) < qstop) bad.push_back(t);
+      if (bad.empty()) return;
+      std::int64_t moved = 0, swaps = 0;
+      std::fill(seen.begin(), seen.end(), 0);
+      seen.resize(tri_.num_verts(), 0);
+      for (const TriId t : bad) {
+        if (!in_domain(t)) continue;
+        for (int k = 0; k < 3; ++k) {
+          const VertId v = tri_.tv[3 * t + k];
+          if (seen[v]) continue;
+          seen[v] = 1;
+          moved += maxmin_relocate(v, ring, qstop, 8);
+        }
+      }
+      for (const TriId t : bad)
+        if (in_domain(t) && tri_q(t) < qstop) swaps += try_swap(t);
+      res_.stats.relocations += moved;
+      res_.stats.swaps += swaps;
+      if (moved == 0 && swaps == 0) return;
+    }
+  }
+
   void repair(double qbad, int rounds) {
     std::vector<TriId> bad;
     std::vector<VertId> ring;
@@ -1752,6 +1794,14 @@ class Mesher {
 
   void optimize() {
     iso_uniform_ = size_.kind == SizeSpec::Kind::Uniform;
+    if (lattice_used_) {
+      // Lattice field points: the interior is equilateral already; only the band along
+      // the boundary and the lattice's seam with the boundary layer need work, found by
+      // their quality (global passes would spend their time on perfect triangles).
+      targeted_pass(kMaxminStop, 4);
+      repair(kRepairBad, 12);
+      return;
+    }
     for (int pass = 0; pass < 3; ++pass) {
       if (over_time("optimization")) return;
       const std::int64_t s = valence_pass();
@@ -1840,6 +1890,15 @@ class Mesher {
       M.triangle_attribute.push_back(attr_[c]);
       for (int i = 0; i < 3; ++i) {
         const std::int32_t h = 3 * t + i;
+        {
+          // Every undirected edge once, for the measures.
+          const std::int32_t g = tri_.opp[h];
+          if (g == kNone || !in_domain(g / 3) || g > h) {
+            const auto a = static_cast<std::uint32_t>(newid[tri_.tv[3 * t + detail::next3(i)]]);
+            const auto b = static_cast<std::uint32_t>(newid[tri_.tv[3 * t + detail::prev3(i)]]);
+            edges_.push_back(static_cast<std::uint64_t>(std::min(a, b)) << 32 | std::max(a, b));
+          }
+        }
         const std::int32_t s = tri_.seg[h];
         if (s == kNone) continue;
         const std::int32_t g = tri_.opp[h];
@@ -1872,6 +1931,8 @@ class Mesher {
   bool refine_ok_ = true;
   bool field_error_ = false;
   bool iso_uniform_ = false;
+  bool lattice_used_ = false;  // lattice_points placed the field points
+  std::vector<std::uint64_t> edges_;  // output edges, each once (a << 32 | b), for measure
   std::vector<Vec2> fr_, gk_;  // maxmin_relocate scratch: ring in the frame, gradients
   std::vector<VertId> rv_, ru_, merged_, nbr_;  // repair scratch: rings
   std::vector<std::pair<VertId, Vec2>> saved_;

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "uvmesh/mesher2d/mesher2d.h"
 
@@ -77,5 +79,10 @@ inline Metric2 metric_at(const SizeSpec& s, double x, double y) {
   }
   return {};
 }
+
+// measure() with the undirected edges given once each as (a << 32 | b) when the caller
+// knows them from its adjacency (the mesher does), else (nullptr) found by sorting.
+Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<std::array<VertId, 3>>& tris,
+                           const SizeSpec& size, std::vector<std::uint64_t>* known_edges);
 
 }  // namespace uvmesh::m2d::detail
