@@ -137,8 +137,12 @@ Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<
     const VertId a = static_cast<VertId>(e >> 32), b = static_cast<VertId>(e & 0xFFFFFFFFu);
     const Vec2 pa = vertices[a], pb = vertices[b];
     const Vec2 d{pb.x - pa.x, pb.y - pa.y};
-    const Metric2 mm = detail::metric_at(size, 0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y));
-    const double l = (detail::length(vm[a], d) + 4 * detail::length(mm, d) + detail::length(vm[b], d)) / 6;
+    // (A uniform field: one length, the rule is exact.)
+    const double l = size.kind == SizeSpec::Kind::Uniform
+                         ? detail::length(vm[a], d)
+                         : (detail::length(vm[a], d) +
+                            4 * detail::length(detail::metric_at(size, 0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y)), d) +
+                            detail::length(vm[b], d)) / 6;
     unit += (l >= 0.7071067811865476 && l <= 1.4142135623730951);
     lsum += l;
     out.edge_len_min = std::min(out.edge_len_min, l);
