@@ -16,8 +16,14 @@
 //   3. Delaunay triangulation in a box       (§7.3.2, kernel T(i+1) = T(i) - C(P) + B(P))
 //   4. boundary enforcement by swaps         (§7.2.2)
 //   5. domain coloring                       (§7.3.4): exterior and holes removed, regions
-//   6. field points by edge saturation       (§7.3.5, 7.5.2), anisotropic kernel (§7.6.1)
-//   7. optimization                          (§7.3.6): quality swaps, relocation in the metric
+//   6. field points by edge saturation       (§7.3.5, 7.5.2), anisotropic kernel (§7.6.1);
+//                                            a uniform field first gets corner bisector
+//                                            points, the boundary edges' optimal points
+//                                            (§7.4.3) and the equilateral lattice of side h
+//   7. optimization                          (§7.3.6): quality swaps, relocation in the metric;
+//                                            isotropic fields: max-min relocation, and for
+//                                            a uniform field a repair of triangles with
+//                                            Q > 1.18 (swaps, edge collapse and split)
 #pragma once
 
 #include <array>
