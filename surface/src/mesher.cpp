@@ -178,6 +178,45 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     });
     if (changed == 0) break;
   }
+  // Chordal repair along the curves (the 1D half of the one in the face mesher): a
+  // segment whose chord midpoint is farther than 0.9 tol from the curve -- the report
+  // measures it against the faces, on which the curve lies -- is split at its middle
+  // parameter. Sizes come from the curvature sampled at discrete parameters and graded;
+  // a semi-sharp crease of a subdivision surface turns faster than those samples see.
+  if (opt.size.chordal_tol > 0 && opt.chordal_repair_rounds > 0) {
+    const double lim = 0.9 * opt.size.chordal_tol;
+    parallel_indices(arena, ne, [&](std::size_t e) {
+      const geom::Edge& ed = m.edges[e];
+      if (!edge_error[e].empty() || ed.degenerate || !ed.curve || !on_face[e]) return;
+      auto& t = edges[e].t;
+      for (int round = 0; round < opt.chordal_repair_rounds; ++round) {
+        std::vector<double> nt;
+        nt.reserve(t.size() * 2);
+        bool split = false;
+        for (std::size_t i = 0; i + 1 < t.size(); ++i) {
+          nt.push_back(t[i]);
+          const geom::Vec3 a = ed.curve->point(t[i]), b = ed.curve->point(t[i + 1]);
+          const geom::Vec3 mid = 0.5 * (a + b);
+          // Distance to the curve: to the polyline through 9 samples of the piece (the
+          // nearest sample alone overestimates it where the parametrization is uneven).
+          double d = std::numeric_limits<double>::infinity();
+          geom::Vec3 prev = a;
+          for (int k = 1; k <= 8; ++k) {
+            const geom::Vec3 cur = k < 8 ? ed.curve->point(t[i] + (t[i + 1] - t[i]) * k / 8.0) : b;
+            const geom::Vec3 seg = cur - prev;
+            const double l2 = glm::dot(seg, seg);
+            const double w = l2 > 0 ? std::clamp(glm::dot(mid - prev, seg) / l2, 0.0, 1.0) : 0.0;
+            d = std::min(d, glm::length(prev + w * seg - mid));
+            prev = cur;
+          }
+          if (d > lim) nt.push_back(0.5 * (t[i] + t[i + 1])), split = true;
+        }
+        nt.push_back(t.back());
+        t.swap(nt);
+        if (!split) break;
+      }
+    });
+  }
   for (const auto& w : edge_error)
     if (!w.empty()) res.warnings.push_back(w);
 

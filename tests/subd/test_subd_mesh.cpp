@@ -36,16 +36,15 @@ struct Case {
   bool closed;
   // Known open problems (issue 5 closing note): checked with CHECK_NOFAIL, so they are
   // printed as failures in the log without failing the suite.
-  bool chordal_known = false;  // rapid curvature change along semi-sharp creases
   bool quality_known = false;  // valence-64 pole / non-manifold sheets: thin patches
   bool self_known = false;     // catmark_car: crossings within one shell
 };
 
 const std::vector<Case> kCases = {
-    {"catmark_cube.obj", true},          {"catmark_cube_creases1.obj", true, true}, {"catmark_chaikin0.obj", true},
-    {"catmark_torus.obj", true},         {"loop_icosahedron.obj", true},      {"loop_cube_creases1.obj", true, true},
-    {"catmark_tent_creases1.obj", false}, {"catmark_helmet.obj", false},      {"catmark_pole64.obj", false, false, true},
-    {"catmark_nonman_edges.obj", false, false, true}, {"catmark_pawn.obj", false},         {"catmark_car.obj", false, false, false, true}};
+    {"catmark_cube.obj", true},          {"catmark_cube_creases1.obj", true}, {"catmark_chaikin0.obj", true},
+    {"catmark_torus.obj", true},         {"loop_icosahedron.obj", true},      {"loop_cube_creases1.obj", true},
+    {"catmark_tent_creases1.obj", false}, {"catmark_helmet.obj", false},      {"catmark_pole64.obj", false, true},
+    {"catmark_nonman_edges.obj", false, true}, {"catmark_pawn.obj", false},         {"catmark_car.obj", false, false, true}};
 
 // Runs tetgen -pYQ on the mesh written as .smesh; true when it exits 0 and writes
 // tetrahedra.
@@ -136,8 +135,10 @@ TEST_CASE("subd meshing: acceptance on every corpus cage", "[subd][corpus]") {
 
     const surface::ChordalReport ch = surface::measure_chordal(mesh, m, 2);
     INFO("worst chordal sample: face " << ch.worst.face << " uv (" << ch.worst.uv.x << ", " << ch.worst.uv.y << ")");
-    if (c.chordal_known) CHECK_NOFAIL(ch.max <= o.size.chordal_tol);
-    else CHECK(ch.max <= o.size.chordal_tol);
+    // The semi-sharp crease cubes were 1.37x and 1.13x over until the chordal repair
+    // (edge midpoints split in the 1D stage, triangle centroids and interior edge
+    // midpoints in the face mesher).
+    CHECK(ch.max <= o.size.chordal_tol);
     CHECK(ch.not_converged <= ch.samples / 200);
 
     // Creases and corners: the mesh has an edge along every creased base edge (its

@@ -38,8 +38,10 @@ struct MeshOptions {
   /// The chordal tolerance the user asked for is divided by this before it sizes
   /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
   double chordal_safety = 4.0;
-  /// Rounds of splitting the triangles whose centroid deviates from the surface by more
-  /// than 0.9 chordal tolerance (after the 3D improvement); 0 = off.
+  /// Rounds of chordal repair (0 = off): edge segments whose chord midpoint is farther
+  /// than 0.9 chordal tolerance from the curve are split (1D stage), and so are the
+  /// triangles whose centroid deviates that much from the surface (after the 3D
+  /// improvement).
   int chordal_repair_rounds = 3;
   int min_segments_closed_edge = 3;
   /// Rounds of size caps on the edges from the other edges of their faces (gradation
