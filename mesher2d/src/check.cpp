@@ -69,6 +69,42 @@ double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return pred::orient2d(ptr(a), ptr(b), ptr(c));
 }
 
+// Positions along a segment AB (A != B) and nearness to its line, as the segment checks
+// use them. key: the coordinate of AB's dominant axis, then the other one (both signed to
+// grow from A to B), compared lexicographically. Exact, and monotone for points on the
+// line; the second coordinate orders a rounded Steiner vertex that shares the first one
+// with its neighbour (a crossing point 1 ulp from an input point, moved along the minor
+// axis only). near_line: on the line exactly, or within the rounding of a Steiner vertex
+// (kSegmentTolUlps).
+struct SegmentFrame {
+  using Key = std::pair<double, double>;
+  Vec2 A, B;
+  bool use_x;
+  double s1, s2, len, mag;
+  SegmentFrame(const Vec2& a, const Vec2& b) : A(a), B(b) {
+    use_x = std::abs(B.x - A.x) >= std::abs(B.y - A.y);
+    const double dmaj = use_x ? B.x - A.x : B.y - A.y, dmin = use_x ? B.y - A.y : B.x - A.x;
+    s1 = dmaj > 0 ? 1.0 : -1.0;
+    s2 = dmin > 0 ? 1.0 : (dmin < 0 ? -1.0 : 0.0);
+    len = std::hypot(B.x - A.x, B.y - A.y);
+    mag = std::max({std::abs(A.x), std::abs(A.y), std::abs(B.x), std::abs(B.y)});
+  }
+  Key key(const Vec2& p) const {
+    return Key{s1 * (use_x ? p.x : p.y), s2 == 0 ? 0.0 : s2 * (use_x ? p.y : p.x)};
+  }
+  bool near_line(const Vec2& P) const {
+    const double o = orient(A, B, P);
+    if (o == 0) return true;
+    const double pm = std::max({mag, std::abs(P.x), std::abs(P.y)});
+    return std::abs(o) / len <= kSegmentTolUlps * std::numeric_limits<double>::epsilon() * pm;
+  }
+  // P on the closed segment: near the line, between A and B.
+  bool holds(const Vec2& P) const {
+    const Key k = key(P);
+    return k >= key(A) && k <= key(B) && near_line(P);
+  }
+};
+
 std::string fmt(double v) {
   std::ostringstream os;
   os.precision(17);
@@ -467,20 +503,9 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
         A = V[va], B = vb == kNone ? in.points[sg.b] : V[vb];
       }
       if (va == vb || (A.x == B.x && A.y == B.y)) continue;
-      // Position along AB: the coordinate of AB's dominant axis, then the other one (both
-      // signed to grow from A to B), compared lexicographically. Exact, and monotone for
-      // points on the line; the second coordinate orders a rounded Steiner vertex that
-      // shares the first one with its neighbour (a crossing point 1 ulp from an input
-      // point, moved along the minor axis only).
-      const bool use_x = std::abs(B.x - A.x) >= std::abs(B.y - A.y);
-      const double dmaj = use_x ? B.x - A.x : B.y - A.y, dmin = use_x ? B.y - A.y : B.x - A.x;
-      const double s1 = dmaj > 0 ? 1.0 : -1.0, s2 = dmin > 0 ? 1.0 : (dmin < 0 ? -1.0 : 0.0);
-      using Key = std::pair<double, double>;
-      auto key = [&](const Vec2& p) {
-        return Key{s1 * (use_x ? p.x : p.y), s2 == 0 ? 0.0 : s2 * (use_x ? p.y : p.x)};
-      };
-      const double len = std::hypot(B.x - A.x, B.y - A.y);
-      const double mag = std::max({std::abs(A.x), std::abs(A.y), std::abs(B.x), std::abs(B.y)});
+      const SegmentFrame sf(A, B);
+      using Key = SegmentFrame::Key;
+      auto key = [&](const Vec2& p) { return sf.key(p); };
       // Search along constrained edges whose far vertex advances toward B and lies on
       // the segment (exactly, or within rounding). The whole reachable set is explored,
       // not one greedy path: two input segments from one point may be nearly collinear
@@ -505,12 +530,7 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
             const Vec2& P = V[n];
             const Key kp = key(P);
             if (!(kp > kc && kp < kb)) continue;
-            const double o = orient(A, B, P);
-            if (o != 0) {
-              const double pm = std::max({mag, std::abs(P.x), std::abs(P.y)});
-              const double dist = std::abs(o) / len;
-              if (!(dist <= kSegmentTolUlps * std::numeric_limits<double>::epsilon() * pm)) continue;
-            }
+            if (!sf.near_line(P)) continue;
           }
           onward = true;
           on_chain[canon[cedge[j]]] = 1;
@@ -562,6 +582,26 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
                 " toward " + (vb == kNone ? "input point " + pt(B) : "vertex " + std::to_string(vb)) +
                 " stops at vertex " + std::to_string(furthest) + " " + pt(V[furthest]) +
                 ", where the segment goes on into the domain");
+    }
+    // A segment accepted above as leaving the domain may come back into it (its middle
+    // runs between a hole and the exterior, fuzz_poly_mesh2d): the walk from its first end
+    // stops at the gap and never marks the pieces beyond it. An edge left unmarked is
+    // therefore accepted when it lies on some input segment (both ends on the closed
+    // segment). Only unmarked edges are searched, so a valid mesh pays for its few
+    // re-entering pieces only.
+    for (std::int32_t e = 0; e < ne && !err.full(); ++e) {
+      if (!evalid[e] || canon[e] != e || on_chain[e]) continue;
+      for (const auto& sg : in.segments) {
+        if (sg.a < 0 || sg.b < 0 || static_cast<std::size_t>(sg.a) >= np || static_cast<std::size_t>(sg.b) >= np)
+          continue;
+        const Vec2 &A = in.points[sg.a], &B = in.points[sg.b];
+        if (A.x == B.x && A.y == B.y) continue;
+        const SegmentFrame sf(A, B);
+        if (sf.holds(V[E[e].a]) && sf.holds(V[E[e].b])) {
+          on_chain[e] = 1;
+          break;
+        }
+      }
     }
     for (std::int32_t e = 0; e < ne && !err.full(); ++e)
       if (evalid[e] && canon[e] == e && !on_chain[e])

@@ -642,7 +642,11 @@ class Mesher {
     std::vector<std::int32_t> work(segs_.size());
     std::iota(work.begin(), work.end(), 0);
     std::reverse(work.begin(), work.end());
-    return enforce_work(work);
+    if (!enforce_work(work)) return false;
+    if (overlaps_merged_ > 0)
+      res_.status.warnings.push_back(std::to_string(overlaps_merged_) +
+                                     " piece(s) of overlapping collinear segments merged");
+    return true;
   }
   // Enforces the segments in work (a stack), splitting them at the vertices they pass
   // through and, by option, at crossings.
@@ -654,6 +658,16 @@ class Mesher {
       SegRec s = segs_[sid];
       if (!s.alive || s.a == s.b) continue;
       if (--budget < 0) return fail(StatusCode::InternalError, "boundary enforcement did not converge");
+      if (overlaps_enforced(s, sid)) {
+        // Overlapping collinear segments, once split at each other's end points (the
+        // ThroughVertex case below), give the same piece twice: it is kept once, as
+        // Triangle keeps one subsegment. Two live records of one edge would each be split
+        // at unit length in discretize_boundary, the second with points rounded off the
+        // first one's chain (a constrained edge on no segment's chain: fuzz_poly_mesh2d).
+        segs_[sid].alive = false;
+        ++overlaps_merged_;
+        continue;
+      }
       const auto r = tri_.enforce(s.a, s.b, sid);
       using ES = Triangulation::EnforceStatus;
       if (r.status == ES::Ok) continue;
@@ -708,6 +722,17 @@ class Mesher {
         if (ns.a != ns.b) work.push_back(add_seg(ns));
     }
     return true;
+  }
+  // True when edge (s.a, s.b) is already in the triangulation, constrained by another
+  // live segment record with the same two ends.
+  bool overlaps_enforced(const SegRec& s, std::int32_t sid) const {
+    std::int32_t h = tri_.find_half_edge(s.a, s.b);
+    if (h == kNone) h = tri_.find_half_edge(s.b, s.a);
+    if (h == kNone) return false;
+    const std::int32_t o = tri_.seg[h];
+    if (o == kNone || o == sid || !segs_[o].alive) return false;
+    const SegRec& so = segs_[o];
+    return (so.a == s.a && so.b == s.b) || (so.a == s.b && so.b == s.a);
   }
   std::int32_t add_seg(SegRec s) {
     segs_.push_back(s);
@@ -2009,6 +2034,7 @@ class Mesher {
   double h_uniform_ = 0;
   Metric2 m_uniform_;
   bool refine_ok_ = true;
+  std::int64_t overlaps_merged_ = 0;  // segment pieces dropped as copies of another (enforce_work)
   bool field_error_ = false;
   bool iso_uniform_ = false;
   bool lattice_used_ = false;  // lattice_points placed the field points
