@@ -26,10 +26,8 @@ uvmesh::cli2d::PolyRead parse_poly(const std::string& text) {
 
 std::string data_file(const std::string& name) { return std::string(UVMESH_SOURCE_DIR) + "/tests/robustness/data/" + name; }
 
-// A mesher2d finding of fuzz_poly_mesh2d: the snapped PSLG it met, meshed as it did. The
-// mesher answers Ok and its own checker rejects the mesh. mesher2d is not ours to change
-// (issue 7 reports it), so the check is CHECK_NOFAIL: the test shows the state in every
-// run and turns into a plain pass once mesher2d is fixed.
+// A mesher2d finding of fuzz_poly_mesh2d: the snapped PSLG it met, meshed as it did
+// (with and without refinement). m2d::mesh answered Ok and m2d::check rejected the mesh.
 void mesher2d_finding(const std::string& file, double h) {
   const uvmesh::cli2d::PolyRead pr = uvmesh::cli2d::read_poly(data_file(file));
   INFO(file);
@@ -37,14 +35,19 @@ void mesher2d_finding(const std::string& file, double h) {
   uvmesh::m2d::Options opt;
   opt.optimize = false;
   opt.max_vertices = 4000;
-  const uvmesh::m2d::Result r = uvmesh::m2d::mesh(pr.poly.pslg, uvmesh::m2d::SizeSpec::uniform(h), opt);
-  INFO(r.status.message);
-  REQUIRE(r.usable());
-  uvmesh::m2d::CheckOptions co;
-  co.seeds = false;
-  const uvmesh::m2d::CheckReport rep = uvmesh::m2d::check(r.mesh, pr.poly.pslg, co);
-  INFO("checker: " << (rep.ok() ? std::string("ok") : rep.errors.front()));
-  CHECK_NOFAIL(rep.ok());
+  for (const bool refine : {true, false}) {
+    INFO("refine " << refine);
+    opt.refine = refine;
+    const uvmesh::m2d::Result r = uvmesh::m2d::mesh(pr.poly.pslg, uvmesh::m2d::SizeSpec::uniform(h), opt);
+    INFO(r.status.message);
+    REQUIRE(r.usable());
+    uvmesh::m2d::CheckOptions co;
+    co.seeds = false;
+    co.delaunay = !refine;
+    const uvmesh::m2d::CheckReport rep = uvmesh::m2d::check(r.mesh, pr.poly.pslg, co);
+    INFO("checker: " << (rep.ok() ? std::string("ok") : rep.errors.front()));
+    CHECK(rep.ok());
+  }
 }
 
 const std::string kTet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
@@ -89,29 +92,59 @@ TEST_CASE("robust: binary bytes in a .poly field are escaped in the one-line mes
   CHECK(msg.find('\n') == std::string::npos);
 }
 
+// The mesh was right; the checker was not. Segment 3 (2,1)-(0,1) runs through (1,1); its
+// piece (2,1)-(1,1) lies between a hole (the seed at (1.5, 0)) and the exterior (the wedge
+// above it is open to the right), so the checker's walk from (2,1) stopped there, accepted
+// the segment as leaving the domain, and never marked the piece (1,1)-(0,1) beyond the gap,
+// which it then called a constrained edge on no segment. The checker now accepts an
+// unmarked constrained edge that lies on some input segment.
 TEST_CASE("robust: mesher2d with duplicate points and degenerate segments (fuzz finding 1)", "[robust][mesher2d]") {
   mesher2d_finding("fuzz_mesher2d_duplicate_points.poly", 0.0);
 }
 
+// A mesher bug: segment 1 (0,-4)-(8,4), split at node 3 (4,0), gave the piece (4,0)-(8,4)
+// that segment 3 already is. Both records of that edge stayed live; boundary
+// discretization split it twice, the second time with points rounded off the first
+// chain. Overlapping pieces are now merged at enforcement (one record per edge, as
+// Triangle keeps one subsegment).
 TEST_CASE("robust: mesher2d with a node inside a segment, overlapping segments (fuzz finding 2)", "[robust][mesher2d]") {
   mesher2d_finding("fuzz_mesher2d_overlapping_segments.poly", 0.37);
 }
 
 // fuzz_obj_cage finding: OpenSubdiv 3.5 (Debian's libosdCPU) reads out of bounds in
-// Vtr::internal::Level::findEdge while building the topology of this cage under
-// Catmull-Clark with edge-only boundary interpolation: a 7-gon that uses vertex 1 three
-// times (twice in a row) and the edge 1-4 twice, next to a triangle. The crash is inside
-// OpenSubdiv, reached through geom/src/subd_model.cpp (model_from_cage), not the OBJ
-// reader: the cage parses. Hidden ([.]) because it crashes the test process (a SEGV under
-// ASan); run it by name to see whether a fix in subd_model.cpp rejects it first.
-TEST_CASE("robust: OBJ cage that crashes OpenSubdiv's findEdge (fuzz finding 3)", "[.][robust][subd]") {
+// Vtr::internal::Level::findEdge while Bfr builds the irregular patch of a 7-gon that
+// uses vertex 1 three times and runs along the edge 1-4 and back ("4 1 1 4"), next to a
+// triangle (a crash inside OpenSubdiv, reached through model_from_cage; the cage parses).
+// model_from_cage now rejects a face that runs along an edge and back (x y y x) before
+// OpenSubdiv sees it; faces that repeat a vertex otherwise still go to OpenSubdiv.
+TEST_CASE("robust: OBJ cage that crashes OpenSubdiv's findEdge is rejected by line (fuzz finding 3)", "[robust][subd]") {
   const uvmesh::geom::SubdCageResult c = uvmesh::geom::read_obj_cage(data_file("fuzz_osd_findedge_crash.obj"));
   REQUIRE(c.ok);
   uvmesh::geom::SubdOptions o;
   o.scheme = uvmesh::geom::SubdScheme::CatmullClark;
   o.boundary = uvmesh::geom::SubdBoundary::EdgeOnly;
   const uvmesh::geom::SubdModelResult m = uvmesh::geom::model_from_cage(c.cage, o);
-  CHECK_FALSE(m.ok);  // a clear error is the expected outcome once fixed
+  REQUIRE_FALSE(m.ok);
+  CHECK_THAT(m.error, Catch::EndsWith("fuzz_osd_findedge_crash.obj:6: face 1 runs along the edge 4-1 and back "
+                                      "(vertices 4 1 1 4 in a row): a folded face, which OpenSubdiv 3.5 cannot "
+                                      "evaluate"));
+  // The same fold in any rotation of the face, and with the triangle gone.
+  for (const char* f : {"f 1 3 2\nf 1 1 4 3 1 2 4\n", "f 1 3 2\nf 4 3 1 2 4 1 1\n", "f 1 2 4 1 1 4 3\n"}) {
+    INFO(f);
+    const auto r = parse_cage(std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n") + f);
+    REQUIRE(r.ok);
+    CHECK_THAT(uvmesh::geom::model_from_cage(r.cage, o).error, Catch::Contains("and back"));
+  }
+  // Repeated vertices that are not a fold stay with OpenSubdiv (catmark_nonman_edges has
+  // "x y x z" and "x x y z" faces; "x x y y" has two distinct vertices and no patch).
+  for (const char* f : {"f 1 3 2\nf 1 2 4 1 4 3\n", "f 1 3 2\nf 1 2 4 4 3\n", "f 1 3 2\nf 2 2 4 4\n"}) {
+    INFO(f);
+    const auto r = parse_cage(std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n") + f);
+    REQUIRE(r.ok);
+    const auto mm = uvmesh::geom::model_from_cage(r.cage, o);
+    CHECK(mm.ok);
+    CHECK_THAT(mm.error, !Catch::Contains("and back"));
+  }
 }
 
 TEST_CASE("robust: a PLY face_id beyond int's range is an error, not undefined behaviour (fuzz_mesh_ply)", "[robust][io]") {
