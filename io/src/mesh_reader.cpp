@@ -1001,6 +1001,15 @@ void read_ply(const std::string& data, MeshReadResult& r) {
   bool have_vertices = false;
   for (const PlyElement& e : elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    if (e.props.empty()) {
+      // An element without properties holds no data whatever its count: looping over a
+      // count of 1e9 read nothing and took minutes (fuzz_mesh_ply). Vertices and faces
+      // without properties cannot be read.
+      if ((is_vertex || is_face) && e.count > 0)
+        fail(where() + ": element '" + e.name + "' has " + std::to_string(e.count) + " entries but no properties");
+      have_vertices = have_vertices || is_vertex;
+      continue;
+    }
     for (std::int64_t i = 0; i < e.count; ++i) {
       geom::Vec3 p(0.0);
       std::vector<NodeId> poly;

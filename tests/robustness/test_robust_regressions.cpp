@@ -176,3 +176,23 @@ TEST_CASE("robust: a PLY vertex index beyond long long's range is reported witho
   CHECK_FALSE(r.ok);
   CHECK(r.error == "f.ply: line 13: vertex index 8.88889e+19 out of range");
 }
+
+TEST_CASE("robust: a PLY element without properties is skipped, not looped over (fuzz_mesh_ply timeout)", "[robust][io]") {
+  // "element x 1144441892" with no properties: the reader looped a billion times reading
+  // nothing (a 10 s libFuzzer timeout). Such an element holds no data; a vertex or face
+  // element without properties is an error (it pushed one point per entry).
+  const std::string tail =
+      "element vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const auto r = uvmesh::io::read_mesh_data("ply\nformat ascii 1.0\nelement x 2147483647\n" + tail,
+                                            uvmesh::io::MeshFormat::Ply, "f.ply");
+  INFO(r.error);
+  REQUIRE(r.ok);
+  CHECK(r.mesh.points.size() == 3);
+  CHECK(r.mesh.triangles.size() == 1);
+  const auto v = uvmesh::io::read_mesh_data("ply\nformat ascii 1.0\nelement vertex 2147483647\nelement face 0\nend_header\n",
+                                            uvmesh::io::MeshFormat::Ply, "f.ply");
+  CHECK_FALSE(v.ok);
+  CHECK(v.error == "f.ply: line 6: element 'vertex' has 2147483647 entries but no properties");
+}
