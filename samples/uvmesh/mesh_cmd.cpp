@@ -100,8 +100,21 @@ std::string check_writable(const std::string& path) {
   return "";
 }
 
-// The option checks that need no model: output format and paths.
+// The option checks that need no model: output format and paths, absolute sizes, the
+// syntax of local sizes. What needs the model (hmin against a relative or default hmax,
+// face and edge ids) is checked once it is read.
 std::string check_flags(const MeshFlags& f, const io::WriteOptions& wo) {
+  if (f.hmin > 0 && f.hmax > 0 && f.hmin > f.hmax) {
+    std::ostringstream m;
+    m << "--hmin " << f.hmin << " is larger than hmax " << f.hmax;
+    return m.str();
+  }
+  for (const std::vector<std::string>* list : {&f.face_size, &f.edge_size})
+    for (const std::string& s : *list) {
+      geom::Id id;
+      double h;
+      if (!parse_id_size(s, id, h)) return "'" + s + "': expected ID=SIZE";
+    }
   if (!wo.format && !io::format_from_path(f.out))
     return f.out + ": unknown mesh extension (known: " + io::known_mesh_extensions() + ")";
   if (!f.report.empty() && f.report == f.out) return f.out + ": given both as the mesh and as the report";

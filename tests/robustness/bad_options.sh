@@ -3,7 +3,8 @@
 # hmin > hmax, unknown output formats, unwritable output and report paths. Each must give
 # exit 1 (uvmesh) or 2 (uvmesh2d: its usage status), exactly one line on stderr that
 # names the offending option or path, and no output file. The checks run before the
-# model is read, except hmin against a relative or default hmax, which needs the model.
+# model is read, except hmin against a relative or default hmax and the face ids of
+# --face-size, which need the model.
 #
 # usage: bad_options.sh UVMESH UVMESH2D MODEL.step POLY
 set -uo pipefail
