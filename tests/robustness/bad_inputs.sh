@@ -7,8 +7,10 @@
 #   - exactly one line on stderr, naming the file,
 #   - no output file (not even a temporary beside it).
 # The corpus' files that are valid or repairable (MANIFEST "expect: loads") must load
-# and mesh within the time limit instead; a face that cannot be meshed is reported by id
-# and exits 3, with the rest of the mesh written, as DESIGN.md asks.
+# within the time limit and mesh within 6 times it instead (occt_bearing_axis is 18 solids
+# fused into 180 k triangles, ~5 s of CPU: at 10 s it failed on a loaded 2-core machine);
+# a face that cannot be meshed is reported by id and exits 3, with the rest of the mesh
+# written, as DESIGN.md asks.
 #
 # usage: bad_inputs.sh UVMESH UVMESH2D BAD_DIR
 set -uo pipefail
@@ -82,7 +84,12 @@ for f in "$bad"/*; do
     run "info $b" "$uvmesh" info "$f" && [ "$rc" -ne 0 ] && fail "info $b: exit $rc, expected the model to load: $(cat "$tmp/err")"
     # A failed run (hang, signal) is reported by run; its output is cleared all the same,
     # or the next file would be blamed for it.
-    if ! run "mesh $b" "$uvmesh" mesh "$f" -o "$tmp/o/out.msh" -q --threads 2; then
+    reject_limit=$limit
+    limit=$((reject_limit * 6))
+    run "mesh $b" "$uvmesh" mesh "$f" -o "$tmp/o/out.msh" -q --threads 2
+    ran=$?
+    limit=$reject_limit
+    if [ "$ran" -ne 0 ]; then
       rm -rf "${tmp:?}/o"/*
       continue
     fi
