@@ -54,6 +54,10 @@ REPORT = {
     "share_Q_lt_1_5": "quality.share_Q_lt_1_5",  # share of triangles with Q_K < 1.5, in [0, 1]
     "Q_max": "quality.Q_max",
     "Q_p95": "quality.Q_p95",
+    "bad_away": "quality.bad_away_from_corners",     # Q >= 3, touching no model vertex
+    "bad_at_corners": "quality.bad_at_corners",      # Q >= 3, touching a model vertex (exception)
+    "bad_narrow_gaps": "quality.bad_in_narrow_gaps",  # Q >= 3 across a face narrower than the
+                                                      # proximity floor hmin/100 (exception)
     "unit_edge_share": "unit_edge_share",        # share of unit edges (metric length in [1/sqrt2, sqrt2])
     "chordal_max": "chordal.max",
     "chordal_tolerance": "chordal.tolerance",    # 0 when no chordal bound was asked for
@@ -750,6 +754,9 @@ def judge_variant(ctx, model, info, vname, extra):
         why.append("no report (--report)")
         return rec
     rec["triangles"] = tris = get(rep, "triangles", REPORT)
+    # The acceptance's reported exceptions: Q >= 3 at a model vertex, or across a gap of
+    # the face narrower than the mesher's proximity floor.
+    rec["exceptions"] = {k: get(rep, k, REPORT) for k in ("bad_at_corners", "bad_narrow_gaps")}
     failed = get(rep, "faces_failed", REPORT)
     if failed:
         ff = get(rep, "failed_faces", REPORT) or []
@@ -780,6 +787,7 @@ def judge_variant(ctx, model, info, vname, extra):
          "unit edge share %%.3f < %g" % THRESHOLDS["unit_edge_share_min"])
     need("share_Q_lt_1_5", lambda v: v >= THRESHOLDS["share_Q_lt_1_5_min"],
          "share Q<1.5 %%.3f < %g" % THRESHOLDS["share_Q_lt_1_5_min"])
+    need("bad_away", lambda v: v == 0, "%s triangles with Q >= 3 touching no model vertex")
     # Every output file: present, read by meshio and gmsh with the report's triangle count.
     for o, n in expected.items():
         if not os.path.isfile(o):
@@ -830,7 +838,10 @@ def corpus_line(res):
             # one line a model: the tools' own multi-line messages are folded with " / "
             parts.append("%s: %s" % (v["variant"], "; ".join(re.sub(r"\s*\|\s*", " / ", w) for w in v["reasons"])))
         else:
-            parts.append("%s: ok %s s, %s triangles" % (v["variant"], fmt(v.get("wall_s")), fmt(v.get("triangles"))))
+            ex = v.get("exceptions") or {}
+            parts.append("%s: ok %s s, %s triangles, Q>=3 exceptions: %s at model vertices, %s in narrow gaps" % (
+                v["variant"], fmt(v.get("wall_s")), fmt(v.get("triangles")), fmt(ex.get("bad_at_corners")),
+                fmt(ex.get("bad_narrow_gaps"))))
     return "%s %-32s %s" % ("PASS" if res["pass"] else "FAIL", res["model"], " | ".join(parts))
 
 

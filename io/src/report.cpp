@@ -3,6 +3,8 @@
 // histograms, (u,v) for meshes read from files) and formats the JSON.
 #include "uvmesh/io/report.h"
 
+#include "uvmesh/surface/mesher.h"
+
 #include <algorithm>
 #include <map>
 #include <cmath>
@@ -217,7 +219,14 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
   if (model) d.solids = solid_topology(m, *model);
   if (opt.self_intersections)
     d.intersections = surface::find_self_intersections(m, opt.max_list, opt.threads);
-  d.quality = surface::measure_quality(m, opt.max_list);
+  // With a model, bad triangles across gaps narrower than the mesher's proximity floor
+  // (for the sizes given, else the default sizes') are counted apart from the others.
+  double narrow_gap = 0.0;
+  if (model) {
+    const double D = model->bbox.diagonal();
+    narrow_gap = surface::proximity_floor(opt.size ? *opt.size : surface::default_size(*model), D);
+  }
+  d.quality = surface::measure_quality(m, opt.max_list, narrow_gap);
 
   // Edge lengths relative to the median edge: the report of a mesh without a size field
   // still shows how uniform (or how graded) the sizes are.
@@ -300,7 +309,8 @@ nlohmann::json report_json(const CheckData& d) {
                   {"min_angle_deg", q.min_angle_deg},
                   {"max_angle_deg", q.max_angle_deg},
                   {"bad_at_corners", q.bad_at_corners},
-                  {"bad_away_from_corners", q.bad_away_from_corners}};
+                  {"bad_away_from_corners", q.bad_away_from_corners},
+                  {"bad_in_narrow_gaps", q.bad_in_narrow_gaps}};
   nlohmann::json bad = nlohmann::json::array();
   for (const auto& b : q.bad_list)
     bad.push_back({{"triangle", b.triangle}, {"face", b.face}, {"Q", b.Q}});

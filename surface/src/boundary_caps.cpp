@@ -24,6 +24,18 @@ geom::Vec3 closest_on_segment(const geom::Vec3& x, const geom::Vec3& a, const ge
 
 }  // namespace
 
+}  // namespace uvmesh::surface::detail
+
+namespace uvmesh::surface {
+
+double proximity_floor(const param::SizeSpec& spec, double diagonal) {
+  return 0.01 * (spec.hmin > 0 ? spec.hmin : 1e-3 * diagonal);
+}
+
+}  // namespace uvmesh::surface
+
+namespace uvmesh::surface::detail {
+
 BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t,
                            const param::SizeSpec& spec)
     : poly_(m.edges.size()), face_edges_(m.faces.size()), edge_faces_(m.edges.size()) {
@@ -33,7 +45,7 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
   // band of a micrometre on a millimetre part) still gets elements about as wide as it,
   // down to hmin / 100: larger ones could only be slivers across it.
   floor_ = spec.hmin > 0 ? spec.hmin : 1e-3 * D;
-  prox_floor_ = 0.01 * floor_;
+  prox_floor_ = proximity_floor(spec, D);
   eps_ = 1e-12 * D;
   for (std::size_t e = 0; e < m.edges.size(); ++e) {
     const geom::Edge& ed = m.edges[e];

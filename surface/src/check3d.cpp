@@ -600,7 +600,7 @@ double triangle_Q(const Vec3& a, const Vec3& b, const Vec3& c) {
   return kAlpha * std::max({ab, bc, ca}) * (ab + bc + ca) / area2;
 }
 
-QualityReport measure_quality(const SurfaceMesh& m, int max_list) {
+QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_gap) {
   QualityReport r;
   const std::size_t nt = m.triangles.size();
   std::vector<double> Q(nt, -1.0), amin(nt, 180.0), amax(nt, 0.0);
@@ -639,8 +639,21 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list) {
       bool corner = false;
       if (!m.point_dim.empty())
         for (NodeId i : m.triangles[t]) corner = corner || m.point_dim[i] == 0;
+      bool gap = false;
+      if (!corner && narrow_gap > 0 && !m.point_dim.empty()) {
+        bool on_edges = true;
+        for (NodeId i : m.triangles[t]) on_edges = on_edges && m.point_dim[i] <= 1 && m.point_dim[i] >= 0;
+        if (on_edges) {
+          const pred3::Tri c = corners(m, t);
+          const double area2 = glm::length(glm::cross(c[1] - c[0], c[2] - c[0]));
+          const double hmax = std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
+          gap = area2 < narrow_gap * hmax;  // width = area2 / hmax
+        }
+      }
       if (corner) {
         ++r.bad_at_corners;
+      } else if (gap) {
+        ++r.bad_in_narrow_gaps;
       } else {
         ++r.bad_away_from_corners;
         bad.push_back({static_cast<TriId>(t), face_of(m, t), q});

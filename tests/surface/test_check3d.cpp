@@ -667,6 +667,30 @@ TEST_CASE("check3d: quality: bad triangles away from model vertices", "[check3d]
   CHECK(r.Q_p99 == r.Q_max);
 }
 
+TEST_CASE("check3d: quality: slivers across a gap narrower than the proximity floor",
+          "[check3d][quality]") {
+  // Three slivers of width 0.01 and 0.05 (Q well above 3), none touching a model vertex.
+  // With a floor of 0.02: the first (all points on model edges, width 0.01) spans a gap
+  // narrower than the floor; the second has an interior point (dim 2); the third is wider
+  // than the floor. Only the first is counted apart.
+  auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.01, 0},
+                      {5, 0, 0}, {6, 0, 0}, {5.5, 0.01, 0},
+                      {10, 0, 0}, {11, 0, 0}, {10.5, 0.05, 0}},
+                     {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
+  for (auto& d : m.point_dim) d = 1;
+  m.point_dim[5] = 2;
+  const auto none = surface::measure_quality(m);
+  CHECK(none.bad_away_from_corners == 3);
+  CHECK(none.bad_in_narrow_gaps == 0);
+  const auto r = surface::measure_quality(m, 100, 0.02);
+  CHECK(r.bad_at_corners == 0);
+  CHECK(r.bad_in_narrow_gaps == 1);
+  CHECK(r.bad_away_from_corners == 2);
+  REQUIRE(r.bad_list.size() == 2);
+  CHECK(r.bad_list[0].triangle == 1);  // Q 1 / 0.01 beats Q 1 / 0.05
+  CHECK(r.bad_list[1].triangle == 2);
+}
+
 TEST_CASE("check3d: edge lengths: unit share and histogram", "[check3d][edges]") {
   auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
   auto len = [&](double s) {

@@ -60,6 +60,12 @@ struct MeshOptions {
 /// gradation 1.3.
 param::SizeSpec default_size(const geom::Model& m);
 
+/// The narrowest gap the sizes resolve: proximity (two edges of a face closer than the
+/// size) refines down to hmin / 100 (hmin = D/1000 when unset), no further. A face
+/// narrower than that -- a CAD sliver, the last micrometres of a tangential contact --
+/// gets elements as long as the floor across a narrower width.
+double proximity_floor(const param::SizeSpec& spec, double diagonal);
+
 struct FaceFailure {
   geom::Id face = geom::kNone;
   std::string reason;
