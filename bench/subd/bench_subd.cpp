@@ -72,10 +72,17 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r, const std::map<g
     // A point's patch: the sub-face holding it (n-gons), else the one patch.
     auto local = [&](int k, geom::Id f) {
       const geom::SubdPatch& p = r.patches[f];
+      if (!p.polygon.empty()) {
+        // A whole n-gon patch: OpenSubdiv's sub-face coordinates -> its polygon domain.
+        const double c[2] = {uv[2 * k], uv[2 * k + 1]};
+        double st[2];
+        const int sub = param.ConvertCoordToNormalizedSubFace(c, st);
+        return geom::ngon_domain_point(p.polygon, p.centre, sub, {st[0], st[1]});
+      }
       return (geom::Vec2(uv[2 * k], uv[2 * k + 1]) - p.origin) / p.scale;
     };
     auto patch_of = [&](const geom::Vec2& face_uv) {
-      if (!param.HasSubFaces()) return pf[0];
+      if (!param.HasSubFaces() || pf.size() == 1) return pf[0];
       const double c[2] = {face_uv.x, face_uv.y};
       return pf[static_cast<std::size_t>(param.GetSubFace(c))];
     };
@@ -98,7 +105,7 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r, const std::map<g
       // the point on that patch (it lies on its boundary).
       std::array<geom::Vec2, 3> l{local(a, f), local(b, f), local(c, f)};
       const int idx[3] = {a, b, c};
-      for (int k = 0; k < 3; ++k)
+      for (int k = 0; k < 3 && r.patches[f].polygon.empty(); ++k)
         if (l[k].x < -1e-9 || l[k].y < -1e-9 || l[k].x > 1 + 1e-9 || l[k].y > 1 + 1e-9)
           l[k] = surface::project_to_surface(*r.model.faces[f].surface, mesh.points[base + idx[k]],
                                              glm::clamp(l[k], geom::Vec2(0.0), geom::Vec2(1.0)), {{0, 1}, {0, 1}},

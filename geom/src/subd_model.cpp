@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <numeric>
@@ -67,6 +68,8 @@ class SubdSurface final : public Surface {
   Box2 bounds() const override { return {{0.0, 1.0}, {0.0, 1.0}}; }
   SurfaceKind kind() const override { return SurfaceKind::Other; }
   unsigned singular_sides() const override { return sing_; }
+  Vec2 origin() const { return o_; }
+  double scale() const { return k_; }
   void set_singular_sides(unsigned s) { sing_ = s; }
 
  private:
@@ -103,6 +106,87 @@ class SubdSurface final : public Surface {
   double k_;
   bool regular_;
   unsigned sing_ = 0u;
+};
+
+// A Catmull-Clark n-gon (n != 4) as one patch. OpenSubdiv parameterizes it by n
+// quadrangulated sub-faces meeting at the face centre; made into n model faces, the n
+// spokes between them (edge midpoint -> centre) are mesh edges, and in a thin face they
+// cut 5-16 degree corners and 170 degree angles that no triangle can fill well
+// (catmark_pole64: 64 triangles 10x longer than wide around a valence-64 pole, 33% of
+// the triangles with Q >= 1.5, all in those sub-faces). Here the domain is the face's
+// own polygon: the cage face projected on its plane (Newell normal), scaled to extent
+// 1, split as OpenSubdiv splits it into the quads (q_k, m_k, c, m_{k-1}) -- corner,
+// edge midpoint, centre, previous midpoint -- each mapped bilinearly onto sub-face k's
+// unit square. sigma is continuous across the spokes (both sides are linear on the
+// shared side) and exact at every point; its first derivatives jump there (the
+// induced metric is continuous, the meshing only needs that). The base edges stay
+// straight lines in (u,v) with the same parameter as before, so the neighbours see the
+// same curve.
+class NgonSurface final : public Surface {
+ public:
+  NgonSurface(std::vector<std::shared_ptr<const SubdSurface>> sub, std::vector<Vec2> poly, Vec2 centre)
+      : sub_(std::move(sub)), p_(std::move(poly)), c_(centre), n_(static_cast<int>(sub_.size())) {
+    for (const Vec2& q : p_) {
+      box_.u.lo = std::min(box_.u.lo, q.x), box_.u.hi = std::max(box_.u.hi, q.x);
+      box_.v.lo = std::min(box_.v.lo, q.y), box_.v.hi = std::max(box_.v.hi, q.y);
+    }
+  }
+  SurfacePoint eval(double u, double v) const override {
+    const Vec2 x{u, v};
+    const int k = sector(x);
+    const Vec2 st = ngon_subface_coords(p_, c_, k, x);
+    // Bilinear map P(s,t) = p00 + s e + t f + s t g of quad k and its inverse's
+    // derivatives: D(s,t)/D(u,v) = J^-1, second derivatives -J^-1 g (s_a t_b + t_a s_b).
+    const int m = 2 * n_;
+    const Vec2 p00 = p_[2 * k], e = p_[2 * k + 1] - p00, f = p_[(2 * k + m - 1) % m] - p00;
+    const Vec2 g = c_ - p_[2 * k + 1] - p_[(2 * k + m - 1) % m] + p00;
+    const Vec2 Ps = e + st.y * g, Pt = f + st.x * g;
+    const double det = Ps.x * Pt.y - Ps.y * Pt.x;
+    const double su = Pt.y / det, sv = -Pt.x / det, tu = -Ps.y / det, tv = Ps.x / det;
+    auto second = [&](double sa, double ta, double sb, double tb) {
+      const double w = sa * tb + ta * sb;
+      return Vec2(-(su * g.x + sv * g.y) * w, -(tu * g.x + tv * g.y) * w);
+    };
+    const Vec2 uu = second(su, tu, su, tu), uv = second(su, tu, sv, tv), vv = second(sv, tv, sv, tv);
+    const SurfacePoint a = sub_[k]->eval(st.x, st.y);
+    auto d2 = [&](double sa, double ta, double sb, double tb, const Vec2& ab) {
+      return sa * sb * a.duu + (sa * tb + ta * sb) * a.duv + ta * tb * a.dvv + ab.x * a.du + ab.y * a.dv;
+    };
+    SurfacePoint r;
+    r.p = a.p;
+    r.du = su * a.du + tu * a.dv;
+    r.dv = sv * a.du + tv * a.dv;
+    r.duu = d2(su, tu, su, tu, uu);
+    r.duv = d2(su, tu, sv, tv, uv);
+    r.dvv = d2(sv, tv, sv, tv, vv);
+    return r;
+  }
+  Box2 bounds() const override { return box_; }
+  SurfaceKind kind() const override { return SurfaceKind::Other; }
+
+ private:
+  // The sub-face whose angular sector around the centre (from the ray to side point k-1
+  // to the ray to side point k, CCW) holds x; outside the polygon the sectors extend.
+  int sector(const Vec2& x) const {
+    const Vec2 d = x - c_;
+    const int m = 2 * n_;
+    int best = 0;
+    double best_score = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k < n_; ++k) {
+      const Vec2 a = p_[(2 * k + m - 1) % m] - c_, b = p_[2 * k + 1] - c_;
+      const double s0 = (a.x * d.y - a.y * d.x) / glm::length(a), s1 = (d.x * b.y - d.y * b.x) / glm::length(b);
+      const double score = std::min(s0, s1);
+      if (score >= 0) return k;
+      if (score > best_score) best_score = score, best = k;
+    }
+    return best;
+  }
+  std::vector<std::shared_ptr<const SubdSurface>> sub_;
+  std::vector<Vec2> p_;
+  Vec2 c_;
+  int n_;
+  Box2 box_{{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()},
+            {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
 };
 
 // The 3D curve of a model edge: the limit surface of one patch along a straight pcurve.
@@ -215,6 +299,51 @@ struct Piece {
   Id edge = kNone;
   double t0 = 0, t1 = 1;
 };
+
+// The domain of an n-gon patch (NgonSurface) from the limit points of its sub-faces:
+// corners, side points (sub-face corner (1,0)) and centre, projected on the plane of the
+// boundary's Newell normal, corner 0 at the origin, side 0 along +u, scaled to extent 1.
+// Shaped after the limit surface rather than the cage, each bilinear quad is close to an
+// isometry of its piece, so sigma's derivatives agree across the spokes (with the cage
+// polygon of a thin triangle next to a valence-64 pole, sigma_u turned by 120 degrees
+// across a spoke and Newton projections stalled on it). Empty (sub-face patches are used)
+// when a vertex repeats or a quad is not strictly convex (the bilinear maps would not be
+// one-to-one) or the quads do not turn once around the centre.
+bool flatten_ngon(const std::vector<Vec3>& bnd, const Vec3& centre, std::vector<Vec2>& out, Vec2& c2) {
+  const int m = static_cast<int>(bnd.size()), n = m / 2;
+  Vec3 N{0.0};
+  for (int i = 0; i < m; ++i) N += glm::cross(bnd[i] - centre, bnd[(i + 1) % m] - centre);
+  const double ln = glm::length(N);
+  if (!(ln > 0) || !std::isfinite(ln)) return false;
+  N /= ln;
+  Vec3 x = (bnd[1] - bnd[0]) - glm::dot(bnd[1] - bnd[0], N) * N;
+  if (!(glm::length(x) > 0)) return false;
+  x = glm::normalize(x);
+  const Vec3 y = glm::cross(N, x);
+  std::vector<Vec2> q;
+  double ext = 0;
+  for (const Vec3& a : bnd) {
+    q.push_back({glm::dot(a - bnd[0], x), glm::dot(a - bnd[0], y)});
+    ext = std::max({ext, std::abs(q.back().x), std::abs(q.back().y)});
+  }
+  if (!(ext > 0)) return false;
+  for (Vec2& a : q) a /= ext;
+  const Vec2 c{glm::dot(centre - bnd[0], x) / ext, glm::dot(centre - bnd[0], y) / ext};
+  double turn = 0;
+  for (int k = 0; k < n; ++k) {
+    const Vec2 quad[4] = {q[2 * k], q[2 * k + 1], c, q[(2 * k + m - 1) % m]};
+    for (int i = 0; i < 4; ++i) {
+      const Vec2 a = quad[(i + 1) % 4] - quad[i], b = quad[(i + 2) % 4] - quad[(i + 1) % 4];
+      if (!(a.x * b.y - a.y * b.x > 1e-6 * glm::length(a) * glm::length(b))) return false;
+    }
+    const Vec2 a = quad[3] - c, b = quad[1] - c;
+    turn += std::atan2(a.x * b.y - a.y * b.x, glm::dot(a, b));
+  }
+  if (std::abs(turn - 2 * std::acos(-1.0)) > 1e-6) return false;
+  out = std::move(q);
+  c2 = c;
+  return true;
+}
 
 }  // namespace
 
@@ -339,7 +468,37 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     return r;
   }
 
-  // ---- which base edges are split at their midpoint (used by a Catmull-Clark n-gon)
+  // ---- Catmull-Clark n-gons as one patch on their flattened polygon (NgonSurface), when
+  // that polygon splits into convex quads; else (a repeated vertex, a folded face) one
+  // patch per sub-face.
+  std::vector<std::vector<Vec2>> poly(nf);
+  std::vector<Vec2> poly_centre(nf, Vec2(0.0));
+  auto subface_surface = [&](int f, int k) {
+    const Bfr::Parameterization param = base[f]->s.GetParameterization();
+    const double z[2] = {0.0, 0.0}, one[2] = {1.0, 1.0};
+    double o[2], q[2];
+    param.ConvertNormalizedSubFaceToCoord(k, z, o);
+    param.ConvertNormalizedSubFaceToCoord(k, one, q);
+    return std::make_shared<SubdSurface>(base[f], Vec2(o[0], o[1]), q[0] - o[0]);
+  };
+  if (!loop)
+    for (int f = 0; f < nf; ++f) {
+      if (!base[f] || cage.face_sizes[f] == 4) continue;
+      const auto fv = lvl.GetFaceVertices(f);
+      bool repeats = false;
+      for (int i = 0; i < fv.size(); ++i)
+        for (int j = 0; j < i; ++j) repeats = repeats || fv[i] == fv[j];
+      if (repeats) continue;
+      std::vector<Vec3> bnd;
+      for (int k = 0; k < fv.size(); ++k) {
+        const auto sk = subface_surface(f, k);
+        bnd.push_back(sk->point(0.0, 0.0));
+        bnd.push_back(sk->point(1.0, 0.0));
+      }
+      if (!flatten_ngon(bnd, subface_surface(f, 0)->point(1.0, 1.0), poly[f], poly_centre[f])) poly[f].clear();
+    }
+
+  // ---- which base edges are split at their midpoint (used by a sub-face patch)
   const int ne = lvl.GetNumEdges();
   std::vector<char> split(ne, 0), used_e(ne, 0);
   std::vector<int> edge_uses(ne, 0);
@@ -371,7 +530,7 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   for (int e = 0; e < ne; ++e)
     if (used_e[e] && split[e]) vtx_of_mid[e] = new_vertex();
   for (int f = 0; f < nf; ++f)
-    if (base[f] && !loop && cage.face_sizes[f] != 4) vtx_of_center[f] = new_vertex();
+    if (base[f] && !loop && cage.face_sizes[f] != 4 && poly[f].empty()) vtx_of_center[f] = new_vertex();
   placed.assign(m.vertices.size(), 0);
 
   // ---- model edges: pieces of base edges, then spokes (created on first use)
@@ -453,6 +612,40 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     const int n = fv.size();
     auto forward = [&](int i) { return lvl.GetEdgeVertices(fe[i])[0] == fv[i]; };
     const Bfr::Parameterization param = base[f]->s.GetParameterization();
+    if (!poly[f].empty()) {
+      std::vector<std::shared_ptr<const SubdSurface>> sub;
+      for (int k = 0; k < n; ++k) sub.push_back(subface_surface(f, k));
+      auto s = std::make_shared<NgonSurface>(std::move(sub), poly[f], poly_centre[f]);
+      Face fc;
+      fc.surface = s;
+      fc.kind = SurfaceKind::Other;
+      fc.uv_box = s->bounds();
+      Loop lp;
+      lp.outer = true;
+      const std::vector<Vec2>& P = poly[f];
+      for (int i = 0; i < n; ++i) {
+        // Side i bends at its limit middle point P[2i+1] (the model vertex between the
+        // edge's two pieces): each piece is a straight pcurve with the edge's parameter.
+        const Vec2 a = P[2 * i], mid = P[2 * i + 1], b = P[(2 * i + 2) % (2 * n)];
+        const int e = fe[i];
+        if (forward(i)) {
+          add_use(lp, s, pieces[e][0].edge, false, a, 2.0 * (mid - a));
+          add_use(lp, s, pieces[e][1].edge, false, 2.0 * mid - b, 2.0 * (b - mid));
+        } else {
+          add_use(lp, s, pieces[e][1].edge, true, 2.0 * mid - a, 2.0 * (a - mid));
+          add_use(lp, s, pieces[e][0].edge, true, b, 2.0 * (mid - b));
+        }
+        place(vtx_of_base[fv[i]], *s, a);
+        place(vtx_of_mid[e], *s, mid);
+      }
+      fc.loops.push_back(std::move(lp));
+      m.faces.push_back(std::move(fc));
+      SubdPatch pt{f, -1, n, Vec2(0.0), 1.0, {}, {}};
+      pt.polygon = poly[f];
+      pt.centre = poly_centre[f];
+      r.patches.push_back(std::move(pt));
+      continue;
+    }
     if (!param.HasSubFaces()) {
       auto s = std::make_shared<SubdSurface>(base[f], Vec2(0.0), 1.0);
       Face fc = patch_face(s);
@@ -468,19 +661,14 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       }
       fc.loops.push_back(std::move(lp));
       m.faces.push_back(std::move(fc));
-      r.patches.push_back({f, -1, n, Vec2(0.0), 1.0});
+      r.patches.push_back({f, -1, n, Vec2(0.0), 1.0, {}, {}});
       continue;
     }
     // n-gon: sub-face k has its (0,0) corner at vertex k, (1,0) at the midpoint of
     // edge k, (1,1) at the centre and (0,1) at the midpoint of edge k-1 (OpenSubdiv's
     // quadrangulation, the Ptex convention); CCW like the face.
     for (int k = 0; k < n; ++k) {
-      const double z[2] = {0.0, 0.0}, one[2] = {1.0, 1.0};
-      double o[2], q[2];
-      param.ConvertNormalizedSubFaceToCoord(k, z, o);
-      param.ConvertNormalizedSubFaceToCoord(k, one, q);
-      const double scale = q[0] - o[0];
-      auto s = std::make_shared<SubdSurface>(base[f], Vec2(o[0], o[1]), scale);
+      auto s = subface_surface(f, k);
       Face fc = patch_face(s);
       Loop lp;
       lp.outer = true;
@@ -506,7 +694,7 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       place(vtx_of_center[f], *s, {1.0, 1.0});
       fc.loops.push_back(std::move(lp));
       m.faces.push_back(std::move(fc));
-      r.patches.push_back({f, k, n, Vec2(o[0], o[1]), scale});
+      r.patches.push_back({f, k, n, s->origin(), s->scale(), {}, {}});
     }
   }
 

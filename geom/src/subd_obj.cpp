@@ -234,6 +234,40 @@ SubdModelResult read_subd(const std::string& path, const SubdOptions& opt) {
   return r;
 }
 
+// Quad k of an n-gon domain: corner k, side point k, centre, side point k-1 (CCW).
+static void ngon_quad(const std::vector<Vec2>& poly, int k, Vec2& p00, Vec2& p10, Vec2& p01) {
+  const int m = static_cast<int>(poly.size());
+  p00 = poly[2 * k];
+  p10 = poly[2 * k + 1];
+  p01 = poly[(2 * k + m - 1) % m];
+}
+
+Vec2 ngon_domain_point(const std::vector<Vec2>& poly, Vec2 c, int k, Vec2 st) {
+  Vec2 p00, p10, p01;
+  ngon_quad(poly, k, p00, p10, p01);
+  return (1 - st.x) * (1 - st.y) * p00 + st.x * (1 - st.y) * p10 + st.x * st.y * c + (1 - st.x) * st.y * p01;
+}
+
+Vec2 ngon_subface_coords(const std::vector<Vec2>& poly, Vec2 c, int k, Vec2 x) {
+  Vec2 p00, p10, p01;
+  ngon_quad(poly, k, p00, p10, p01);
+  const Vec2 e = p10 - p00, f = p01 - p00, g = c - p10 - p01 + p00;
+  // Newton on P(s,t) = p00 + s e + t f + s t g = x; the quads are convex (model_from_cage
+  // checks), so P is one-to-one on the unit square and Newton converges quadratically,
+  // also a little outside it.
+  Vec2 st{0.0};
+  for (int it = 0; it < 30; ++it) {
+    const Vec2 Ps = e + st.y * g, Pt = f + st.x * g;
+    const Vec2 r = p00 + st.x * e + st.y * f + st.x * st.y * g - x;
+    const double det = Ps.x * Pt.y - Ps.y * Pt.x;
+    if (!(std::abs(det) > 0)) break;
+    const Vec2 d{(Pt.y * r.x - Pt.x * r.y) / det, (-Ps.y * r.x + Ps.x * r.y) / det};
+    st -= d;
+    if (std::abs(d.x) + std::abs(d.y) <= 1e-15 * (1 + std::abs(st.x) + std::abs(st.y))) break;
+  }
+  return st;
+}
+
 #ifndef UVMESH_HAVE_OSD
 bool have_opensubdiv() { return false; }
 SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions&) {

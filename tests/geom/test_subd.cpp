@@ -224,14 +224,22 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
     double worst = 0;
     for (std::size_t f = 0; f < m.faces.size(); f += std::max<std::size_t>(1, m.faces.size() / 60)) {
       const geom::Surface& s = *m.faces[f].surface;
+      const geom::SubdPatch& P = r.patches[f];
       for (int k = 0; k < 6; ++k) {
         double u = U(rng), v = U(rng);
         if (loop && u + v > 0.96) u *= 0.5, v *= 0.5;
+        if (!P.polygon.empty()) {
+          // An n-gon patch: a point well inside one of its quads (sigma's derivatives
+          // jump across the spokes between them).
+          const Vec2 x = geom::ngon_domain_point(P.polygon, P.centre, k % P.face_size, {u, v});
+          u = x.x, v = x.y;
+        }
         const double err = test::surface_fd_error(s, u, v, 1e-5, 1e-5, D);
         worst = std::max(worst, err);
         ++checked;
       }
-      // Corners (extraordinary vertices included) evaluate to finite values.
+      // Corners (extraordinary vertices included) evaluate to finite values ((0,0) is
+      // corner 0 of an n-gon patch too).
       const auto e = s.eval(0.0, 0.0);
       CHECK(std::isfinite(glm::dot(e.duu + e.duv + e.dvv, Vec3(1.0))));
       CHECK(glm::length(glm::cross(e.du, e.dv)) > 0.0);
@@ -291,19 +299,36 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
   }
 }
 
-TEST_CASE("subd model: Catmull-Clark n-gons become sub-face patches meeting at the centre", "[geom][subd]") {
-  // catmark_pole64: 64 triangles around a pole, 64 quads; each triangle is 3 patches.
+TEST_CASE("subd model: a Catmull-Clark n-gon is one patch on its flattened limit polygon", "[geom][subd]") {
+  // catmark_pole64: 64 triangles around a valence-64 pole, 64 quads. Each triangle was 3
+  // sub-face patches whose spokes, as mesh edges, cut 5-16 degree corners into the thin
+  // triangles (a third of the triangles of the mesh had Q >= 1.5); it is one patch now.
   const auto r = geom::read_subd(cage_path("catmark_pole64.obj"), {});
   REQUIRE(r.ok);
-  int sub = 0;
-  for (const auto& p : r.patches) sub += p.subface >= 0;
-  CHECK(sub == 64 * 3);
-  CHECK(r.model.faces.size() == 64 * 3 + 64);
-  // All sub-faces of one base face share their (1,1) corner.
-  for (std::size_t f = 0; f + 2 < r.patches.size(); ++f)
-    if (r.patches[f].subface == 0) {
-      const Vec3 c0 = r.model.faces[f].surface->point(1, 1);
-      CHECK(glm::length(r.model.faces[f + 1].surface->point(1, 1) - c0) < 1e-12);
-      CHECK(glm::length(r.model.faces[f + 2].surface->point(1, 1) - c0) < 1e-12);
-    }
+  CHECK(r.model.faces.size() == 128);
+  int ngons = 0;
+  double gap = 0, back = 0;
+  for (std::size_t f = 0; f < r.patches.size(); ++f) {
+    const geom::SubdPatch& P = r.patches[f];
+    if (P.face_size != 3) continue;
+    ++ngons;
+    REQUIRE(P.polygon.size() == 6);
+    CHECK(P.subface == -1);
+    const geom::Surface& s = *r.model.faces[f].surface;
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j <= 10; ++j) {
+        // Spoke k seen from sub-face k (s = 1) and from sub-face k+1 (t = 1): one (u,v)
+        // segment, and sigma continuous across it.
+        const Vec2 a = geom::ngon_domain_point(P.polygon, P.centre, k, {1.0, j / 10.0});
+        const Vec2 b = geom::ngon_domain_point(P.polygon, P.centre, (k + 1) % 3, {j / 10.0, 1.0});
+        CHECK(glm::length(a - b) < 1e-14);
+        const Vec2 nrm = glm::normalize(Vec2(P.centre.y - a.y, a.x - P.centre.x)) * 1e-9;
+        if (j < 10) gap = std::max(gap, glm::length(s.point(a.x + nrm.x, a.y + nrm.y) - s.point(a.x - nrm.x, a.y - nrm.y)));
+        const Vec2 st = geom::ngon_subface_coords(P.polygon, P.centre, k, geom::ngon_domain_point(P.polygon, P.centre, k, {0.3, j / 10.0}));
+        back = std::max(back, glm::length(st - Vec2(0.3, j / 10.0)));
+      }
+  }
+  CHECK(ngons == 64);
+  CHECK(gap < 1e-7 * r.model.bbox.diagonal());
+  CHECK(back < 1e-12);
 }

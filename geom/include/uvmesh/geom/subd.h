@@ -8,18 +8,21 @@
 //   if (!r.ok) std::cerr << r.error;              // "cage.obj:12: face references vertex 9 ..."
 //   surface::mesh_model(r.model, opts);
 //
-// The Model. Every base face with a limit surface is one patch (Catmull-Clark quads, Loop
-// triangles) or, for a Catmull-Clark face with n != 4 sides, n patches (OpenSubdiv's
-// quadrangulated sub-faces, one per corner). Each patch is a geom::Face whose Surface
-// evaluates OpenSubdiv's limit surface (Bfr::Surface) with first and second derivatives
-// on [0,1]^2 (the triangle u,v >= 0, u+v <= 1 for Loop). Patch boundaries are model
-// edges shared by the patches on both sides: their 3D curve is the limit curve, their
-// pcurves are straight lines in each patch's (u,v) and the curve parameter t is the same
-// on every side (t in [0,1] along a base edge from its first to its second vertex, split
-// at 1/2 where a Catmull-Clark n-gon uses half of it; t in [0,1] from an edge midpoint
-// to the face centre on the spokes inside an n-gon). Base vertices, edge midpoints and
-// n-gon centres are model vertices. So creases and sharp corners, which lie on base
-// edges and vertices, are model edges and vertices and become mesh edges and vertices.
+// The Model. Every base face with a limit surface is one patch: Catmull-Clark quads and
+// Loop triangles on their unit (u,v) square or triangle; a Catmull-Clark face with n != 4
+// sides on the flattened polygon of its limit points, pieced from OpenSubdiv's n
+// quadrangulated sub-faces (SubdPatch::polygon). An n-gon that repeats a vertex, or whose
+// flattened polygon does not split into convex quads, is n patches instead, one per
+// sub-face. Each patch is a
+// geom::Face whose Surface evaluates OpenSubdiv's limit surface (Bfr::Surface) with first
+// and second derivatives. Patch boundaries are model edges shared by the patches on both
+// sides: their 3D curve is the limit curve, their pcurves are straight lines in each
+// patch's (u,v) and the curve parameter t is the same on every side (t in [0,1] along a
+// base edge from its first to its second vertex, split at 1/2 where a sub-face patch uses
+// half of it; t in [0,1] from an edge midpoint to the face centre on the spokes between
+// sub-face patches). Base vertices, the limit points of the middles of n-gon sides, and
+// the centres of n-gons made of sub-face patches are model vertices. So creases and sharp corners, which lie on base edges and
+// vertices, are model edges and vertices and become mesh edges and vertices.
 //
 // Faces without a limit surface (holes, and faces on a boundary with boundary
 // interpolation "none") are not in the Model (SubdModelResult::dropped_faces). A
@@ -114,7 +117,21 @@ struct SubdPatch {
   int face_size = 0; ///< vertices of the base face
   Vec2 origin{0.0, 0.0};
   double scale = 1.0;
+  /// A whole Catmull-Clark n-gon (n != 4) as one patch: its (u,v) domain is the polygon
+  /// of the face's limit points flattened (CCW): corner k (the face's k-th vertex) at
+  /// polygon[2k], the limit point of the middle of side k (OpenSubdiv's sub-face corner)
+  /// at polygon[2k+1], the limit point of the face centre at `centre`. The quad (corner
+  /// k, side point k, centre, side point k-1) maps bilinearly onto OpenSubdiv's sub-face
+  /// k (ngon_domain_point). origin and scale are then unused. Empty for other patches.
+  std::vector<Vec2> polygon;
+  Vec2 centre{0.0, 0.0};
 };
+
+/// Point of an n-gon patch's domain (SubdPatch::polygon) at normalized coordinates st
+/// in [0,1]^2 of OpenSubdiv's sub-face k, and the inverse (Newton; also a little
+/// outside the quad).
+Vec2 ngon_domain_point(const std::vector<Vec2>& polygon, Vec2 centre, int k, Vec2 st);
+Vec2 ngon_subface_coords(const std::vector<Vec2>& polygon, Vec2 centre, int k, Vec2 uv);
 
 struct SubdModelResult {
   bool ok = false;
