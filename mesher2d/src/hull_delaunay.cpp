@@ -66,6 +66,8 @@ inline std::uint64_t mix64(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
+}  // namespace
+
 // Insertion order: BRIO (Amenta, Choi, Rote): point i joins round r with probability
 // 2^-(r+1) counted from the last round (a deterministic hash of i, so the output does not
 // depend on anything but the input), rounds inserted from the smallest; inside a round,
@@ -75,7 +77,7 @@ inline std::uint64_t mix64(std::uint64_t z) {
 // circumdisks make large cavities, as a pure space-filling order builds). Sorted by an
 // LSD radix sort of 32-bit keys (round, 28-bit Hilbert index) carrying the input index:
 // stable, so equal keys keep the input order.
-void insertion_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec) {
+void brio_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec) {
   const std::size_t n = in.size();
   double xmin = std::numeric_limits<double>::infinity(), ymin = xmin, xmax = -xmin, ymax = -xmin;
   for (const Vec2& p : in) {
@@ -113,14 +115,12 @@ void insertion_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& re
   }
 }
 
-}  // namespace
-
 HullDelaunay::Status HullDelaunay::build(const std::vector<Vec2>& in) {
   const std::size_t n = in.size();
   tris.clear();
   dups.clear();
   std::vector<std::uint64_t> order;
-  insertion_order(in, order);
+  brio_order(in, order);
   // Coordinates in insertion order (the gather is the only random access to the input;
   // prefetched a few points ahead).
   pts.resize(n + 1);

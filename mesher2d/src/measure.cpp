@@ -68,23 +68,44 @@ Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<
   double qsum = 0, mqsum = 0;
   std::int64_t n15 = 0, n2 = 0, mn15 = 0, mn2 = 0;
   double cmax = -1, cmin = 1, mcmax = -1, mcmin = 1;
+  // A uniform field's metric is a scaling: the shape in it is the Euclidean one.
+  const bool metric_shapes = has_metric && size.kind != SizeSpec::Kind::Uniform;
   for (const auto& t : tris) {
     const Vec2 a = vertices[t[0]], b = vertices[t[1]], c = vertices[t[2]];
-    const Shape s = shape(a, b, c);
-    out.q_max = std::max(out.q_max, s.q);
-    qsum += s.q;
-    n15 += s.q < 1.5;
-    n2 += s.q < 2;
-    cmax = std::max(cmax, s.cmax);
-    cmin = std::min(cmin, s.cmin);
-    if (has_metric) {
+    // The Euclidean shape as shape() computes it, with one division per triangle: the
+    // extreme cosines are compared as cross-multiplied fractions and divided out only
+    // when they beat the running extreme (a million-triangle mesh has a few such).
+    const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - b.x, vy = c.y - b.y, wx = a.x - c.x,
+                 wy = a.y - c.y;
+    const double ab = std::sqrt(ux * ux + uy * uy), bc = std::sqrt(vx * vx + vy * vy),
+                 ca = std::sqrt(wx * wx + wy * wy);
+    const double area2 = ux * (c.y - a.y) - uy * (c.x - a.x);
+    if (!(area2 > 0)) {
+      out.q_max = std::numeric_limits<double>::infinity();
+      qsum = std::numeric_limits<double>::infinity();
+      cmax = 1, cmin = -1;
+    } else {
+      const double q = kAlpha * std::max({ab, bc, ca}) * (ab + bc + ca) / area2;
+      out.q_max = std::max(out.q_max, q);
+      qsum += q;
+      n15 += q < 1.5;
+      n2 += q < 2;
+      // cos at a = -(u.w)/(|u||w|), at b = -(u.v)/(|u||v|), at c = -(v.w)/(|v||w|)
+      const double na = -(ux * wx + uy * wy), da = ab * ca;
+      const double nb = -(ux * vx + uy * vy), db = ab * bc;
+      const double nc = -(vx * wx + vy * wy), dc = bc * ca;
+      if (na > cmax * da) cmax = std::max(cmax, na / da);
+      if (nb > cmax * db) cmax = std::max(cmax, nb / db);
+      if (nc > cmax * dc) cmax = std::max(cmax, nc / dc);
+      if (na < cmin * da) cmin = std::min(cmin, na / da);
+      if (nb < cmin * db) cmin = std::min(cmin, nb / db);
+      if (nc < cmin * dc) cmin = std::min(cmin, nc / dc);
+    }
+    if (metric_shapes) {
       // Shape in the metric: the mean of the vertex metrics (a convex combination of SPD
       // tensors is SPD) stands for the metric over K.
-      // A uniform field's metric is a scaling: the shape is the Euclidean one.
-      const Shape ms = size.kind == SizeSpec::Kind::Uniform ? s : [&] {
-        const detail::MetricFrame f(detail::mean3(vm[t[0]], vm[t[1]], vm[t[2]]));
-        return shape(f(a), f(b), f(c));
-      }();
+      const detail::MetricFrame f(detail::mean3(vm[t[0]], vm[t[1]], vm[t[2]]));
+      const Shape ms = shape(f(a), f(b), f(c));
       out.metric_q_max = std::max(out.metric_q_max, ms.q);
       mqsum += ms.q;
       mn15 += ms.q < 1.5;
@@ -92,6 +113,10 @@ Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<
       mcmax = std::max(mcmax, ms.cmax);
       mcmin = std::min(mcmin, ms.cmin);
     }
+  }
+  if (has_metric && !metric_shapes) {
+    out.metric_q_max = out.q_max;
+    mqsum = qsum, mn15 = n15, mn2 = n2, mcmax = cmax, mcmin = cmin;
   }
   const double nt = static_cast<double>(tris.size());
   out.min_angle_deg = deg(cmax);

@@ -152,11 +152,24 @@ InsertResult Triangulation::insert_point(Vec2 p, TriId hint, const InsertParams&
 }
 
 InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm) {
-  const Vec2 p = pts[v];
   double o0[3];
-  const TriId t0 = locate(p, hint, o0);
+  const TriId t0 = locate(pts[v], hint, o0);
   if (t0 == kNone) return {InsertStatus::Outside, kNone};
+  return insert_located(v, t0, o0, prm);
+}
 
+InsertResult Triangulation::insert_point_located(Vec2 p, TriId t0, const double* o0, const InsertParams& prm) {
+  const VertId v = add_vertex(p);
+  InsertResult r = insert_located(v, t0, o0, prm);
+  if (r.status != InsertStatus::Inserted) {
+    pts.pop_back();
+    vtri.pop_back();
+  }
+  return r;
+}
+
+InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0, const InsertParams& prm) {
+  const Vec2 p = pts[v];
   if (mark_.size() < static_cast<std::size_t>(num_tris()) + 8) mark_.resize(2 * num_tris() + 8, 0);
   if (epoch_ > 0xFFFFFFF0u) {
     std::fill(mark_.begin(), mark_.end(), 0);
@@ -164,23 +177,27 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
   }
   epoch_ += 3;
   const std::uint32_t IN = epoch_, OUT = epoch_ + 1, CAND = epoch_ + 2;
+  std::uint32_t* const mark = mark_.data();
+  const VertId* const TV = tv.data();
+  const std::int32_t* const OPP = opp.data();
+  const std::int32_t* const SEG = seg.data();
+  const Vec2* const P = pts.data();
 
   cav_.clear();
   cav_.push_back(t0);
-  mark_[t0] = IN;
+  mark[t0] = IN;
   // The base (§7.3.2 step 1): the triangle containing P, plus its neighbour when P lies on
   // an edge. A point on a vertex is a duplicate.
   for (int i = 0; i < 3; ++i) {
     if (o0[i] != 0) continue;
-    const VertId a = tv[3 * t0 + next3(i)], b = tv[3 * t0 + prev3(i)];
-    if (pts[a].x == p.x && pts[a].y == p.y) return {InsertStatus::Duplicate, a};
-    if (pts[b].x == p.x && pts[b].y == p.y) return {InsertStatus::Duplicate, b};
-    const std::int32_t h = opp[3 * t0 + i];
+    const VertId a = TV[3 * t0 + next3(i)], b = TV[3 * t0 + prev3(i)];
+    if (P[a].x == p.x && P[a].y == p.y) return {InsertStatus::Duplicate, a};
+    if (P[b].x == p.x && P[b].y == p.y) return {InsertStatus::Duplicate, b};
+    const std::int32_t h = OPP[3 * t0 + i];
     if (h == kNone) return {InsertStatus::Outside, kNone};
-    if (seg[3 * t0 + i] != kNone && !prm.allow_on_constraint)
-      return {InsertStatus::OnConstraint, kNone};
-    if (mark_[h / 3] != IN) {
-      mark_[h / 3] = IN;
+    if (SEG[3 * t0 + i] != kNone && !prm.allow_on_constraint) return {InsertStatus::OnConstraint, kNone};
+    if (mark[h / 3] != IN) {
+      mark[h / 3] = IN;
       cav_.push_back(h / 3);
     }
   }
@@ -193,50 +210,75 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
   for (std::size_t k = 0; k < cav_.size(); ++k) {
     const TriId t = cav_[k];
     for (int i = 0; i < 3; ++i) {
-      const std::int32_t h = opp[3 * t + i];
-      if (h == kNone || seg[3 * t + i] != kNone) {
-        if (h == kNone || mark_[h / 3] != IN) bnd_.push_back(3 * t + i);
+      const std::int32_t h = OPP[3 * t + i];
+      if (h == kNone || SEG[3 * t + i] != kNone) {
+        if (h == kNone || mark[h / 3] != IN) bnd_.push_back(3 * t + i);
         continue;
       }
       const TriId n = h / 3;
-      const std::uint32_t mk = mark_[n];
+      const std::uint32_t mk = mark[n];
       if (mk == IN) continue;
       bool in = false;
       if (mk != OUT) {
         if (prm.use_metric) {
           in = in_cavity(n, p, prm);
         } else {
-          const Vec2& ka = pts[tv[3 * n]];
-          const Vec2& kb = pts[tv[3 * n + 1]];
-          const Vec2& kc = pts[tv[3 * n + 2]];
+          const Vec2& ka = P[TV[3 * n]];
+          const Vec2& kb = P[TV[3 * n + 1]];
+          const Vec2& kc = P[TV[3 * n + 2]];
           in = pred::detail::incircle_filtered(&ka.x, &kb.x, &kc.x, &p.x) > 0;
         }
       }
       if (in) {
-        mark_[n] = IN;
+        mark[n] = IN;
         cav_.push_back(n);
       } else {
-        mark_[n] = OUT;
+        mark[n] = OUT;
         bnd_.push_back(3 * t + i);
       }
     }
   }
 
+  // One pass over the boundary: the star-shapedness check, the field-point filter and the
+  // boundary edges of the ball.
   // Star-shapedness check and correction: every boundary edge of the cavity must see P
   // strictly on its left. Guaranteed for the exact isotropic kernel on a (constrained)
   // Delaunay mesh (§7.1.3); needed for the anisotropic kernel (§7.6.1), where the
   // criterion uses M(P) only. Checked always: a few filtered orientation tests.
-  {
+  // Field-point filter: the nearest existing vertex is a cavity vertex.
+  const double lim = prm.min_dist * prm.min_dist;
+  auto too_close = [&](VertId a) {
+    const double dx = P[a].x - p.x, dy = P[a].y - p.y;
+    double d2 = prm.m.m11 * dx * dx + 2 * prm.m.m12 * dx * dy + prm.m.m22 * dy * dy;
+    if (d2 < lim && prm.vertex_metrics && static_cast<std::size_t>(a) < prm.num_vertex_metrics) {
+      const Metric2& mv = prm.vertex_metrics[a];
+      const double lv2 = mv.m11 * dx * dx + 2 * mv.m12 * dx * dy + mv.m22 * dy * dy;
+      if (lv2 > d2) {
+        const double lp = std::sqrt(d2), lv = std::sqrt(lv2);
+        const double l = lv / lp - 1 < 1e-3 ? 0.5 * (lp + lv) : (lv - lp) / std::log(lv / lp);
+        d2 = l * l;
+      }
+    }
+    return d2 < lim;
+  };
+  auto& bd = bd_;
+  for (int attempt = 0;; ++attempt) {
+    bd.resize(bnd_.size());
+    BoundaryEdge* const B = bd.data();
     bool bad = false;
-    for (const std::int32_t h : bnd_) {
-      const TriId t = h / 3;
+    for (std::size_t k = 0; k < bnd_.size(); ++k) {
+      const std::int32_t h = bnd_[k];
       const int i = h % 3;
-      if (orient(pts[tv[3 * t + next3(i)]], pts[tv[3 * t + prev3(i)]], p) <= 0) {
+      const std::int32_t base = h - i;
+      const VertId a = TV[base + next3(i)], b = TV[base + prev3(i)];
+      B[k] = {a, b, OPP[h], SEG[h]};
+      if (pred::detail::orient2d_filtered(&P[a].x, &P[b].x, &p.x) <= 0) {
         bad = true;
         break;
       }
     }
-    if (bad && !star_correct(p, nbase, IN, OUT, CAND)) return {InsertStatus::BadCavity, kNone};
+    if (!bad) break;
+    if (attempt > 0 || !star_correct(p, nbase, IN, OUT, CAND)) return {InsertStatus::BadCavity, kNone};
   }
   // A star-shaped topological disk with m boundary edges holds m - 2 triangles; more
   // means a vertex strictly inside the cavity, which the ball would lose.
@@ -244,60 +286,46 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
     ++bad_cavities;
     return {InsertStatus::BadCavity, kNone};
   }
-  // Field-point filter: the nearest existing vertex is a cavity vertex.
-  if (prm.min_dist > 0) {
-    const double lim = prm.min_dist * prm.min_dist;
-    for (const std::int32_t h : bnd_) {
-      const VertId a = tv[h - h % 3 + next3(h % 3)];
-      const double dx = pts[a].x - p.x, dy = pts[a].y - p.y;
-      double d2 = prm.m.m11 * dx * dx + 2 * prm.m.m12 * dx * dy + prm.m.m22 * dy * dy;
-      if (d2 < lim && prm.vertex_metrics && static_cast<std::size_t>(a) < prm.num_vertex_metrics) {
-        const Metric2& mv = prm.vertex_metrics[a];
-        const double lv2 = mv.m11 * dx * dx + 2 * mv.m12 * dx * dy + mv.m22 * dy * dy;
-        if (lv2 > d2) {
-          const double lp = std::sqrt(d2), lv = std::sqrt(lv2);
-          const double l = lv / lp - 1 < 1e-3 ? 0.5 * (lp + lv) : (lv - lp) / std::log(lv / lp);
-          d2 = l * l;
-        }
-      }
-      if (d2 < lim) return {InsertStatus::TooClose, a};
-    }
-  }
+  if (prm.min_dist > 0)
+    for (const BoundaryEdge& e : bd)
+      if (too_close(e.a)) return {InsertStatus::TooClose, e.a};
 
   // Replace the cavity by the ball: one new triangle (a, b, P) per boundary edge (a, b).
-  auto& bd = bd_;
-  bd.clear();
-  for (const std::int32_t h : bnd_) {
-    const TriId t = h / 3;
-    const int i = h % 3;
-    bd.push_back({tv[3 * t + next3(i)], tv[3 * t + prev3(i)], opp[h], seg[h]});
-  }
+  // The cavity's slots are reused, last first (the order in which a free list would hand
+  // them back), and the two more (m = |cavity| + 2) come from the free list or the end of
+  // the arrays.
   const std::int32_t the_tag = tag[t0];
-  for (const TriId t : cav_) {
-    tv[3 * t] = kNone;
-    free_.push_back(t);
-  }
+  const std::size_t m = bd.size();
   if (vstart_.size() < pts.size()) vstart_.resize(pts.size() + pts.size() / 2 + 16);
   auto& nt = nt_;
-  nt.resize(bd.size());
-  for (std::size_t k = 0; k < bd.size(); ++k) {
-    const TriId t = new_tri();
-    nt[k] = t;
-    tv[3 * t] = bd[k].a;
-    tv[3 * t + 1] = bd[k].b;
-    tv[3 * t + 2] = v;
-    seg[3 * t] = seg[3 * t + 1] = kNone;
-    seg[3 * t + 2] = bd[k].s;
-    tag[t] = the_tag;
-    link(3 * t + 2, bd[k].out);
-    vstart_[bd[k].a] = static_cast<std::int32_t>(k);
-    vtri[bd[k].a] = t;
+  nt.resize(m);
+  const std::size_t nc = cav_.size();
+  for (std::size_t k = 0; k < m; ++k) nt[k] = k < nc ? cav_[nc - 1 - k] : new_tri();
+  VertId* const TVw = tv.data();
+  std::int32_t* const OPPw = opp.data();
+  std::int32_t* const SEGw = seg.data();
+  std::int32_t* const TAG = tag.data();
+  std::int32_t* const VS = vstart_.data();
+  for (std::size_t k = 0; k < m; ++k) {
+    const TriId t = nt[k];
+    const BoundaryEdge& e = bd[k];
+    TVw[3 * t] = e.a;
+    TVw[3 * t + 1] = e.b;
+    TVw[3 * t + 2] = v;
+    SEGw[3 * t] = SEGw[3 * t + 1] = kNone;
+    SEGw[3 * t + 2] = e.s;
+    TAG[t] = the_tag;
+    OPPw[3 * t + 2] = e.out;
+    if (e.out != kNone) OPPw[e.out] = 3 * t + 2;
+    VS[e.a] = static_cast<std::int32_t>(k);
+    vtri[e.a] = t;
   }
-  for (std::size_t k = 0; k < bd.size(); ++k) {
+  for (std::size_t k = 0; k < m; ++k) {
     // Edge 0 of (a, b, P) is (b, P); its twin is edge 1 (P, b) of the triangle starting at b.
     const TriId t = nt[k];
-    const TriId u = nt[vstart_[bd[k].b]];
-    link(3 * t, 3 * u + 1);
+    const TriId u = nt[VS[bd[k].b]];
+    OPPw[3 * t] = 3 * u + 1;
+    OPPw[3 * u + 1] = 3 * t;
   }
   vtri[v] = nt[0];
   if (mark_.size() < static_cast<std::size_t>(num_tris())) mark_.resize(2 * num_tris() + 8, 0);

@@ -62,6 +62,10 @@ class Triangulation {
   VertId add_vertex(Vec2 p);  // a vertex not yet in any triangle
   InsertResult insert(VertId v, TriId hint, const InsertParams& prm);
   InsertResult insert_point(Vec2 p, TriId hint, const InsertParams& prm);
+  // The same with the point already located: t0 contains it, o0 are its orientations
+  // against t0's edges, as locate(p, hint, o0) returns them.
+  InsertResult insert_located(VertId v, TriId t0, const double* o0, const InsertParams& prm);
+  InsertResult insert_point_located(Vec2 p, TriId t0, const double* o0, const InsertParams& prm);
 
   // Locate: a triangle containing p (closed), walking from hint. kNone if outside the box.
   TriId locate(Vec2 p, TriId hint) const;
@@ -154,6 +158,11 @@ class Triangulation {
   std::vector<VertId> nb_scratch_;  // collapse_edge
   mutable std::uint64_t rng_ = 0x9E3779B97F4A7C15ull;
 };
+
+// Insertion order of a point set for the Delaunay kernel (hull_delaunay.cpp): BRIO rounds,
+// Hilbert order inside every round. rec[k] = (key << 32 | input index) of the k-th point
+// to insert; the low 32 bits are the index (n < 2^32).
+void brio_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec);
 
 // Delaunay triangulation of the convex hull of a point set, without constraints: the
 // fast path of m2d::mesh for unconstrained input without refinement (the issue's
