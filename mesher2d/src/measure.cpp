@@ -60,7 +60,9 @@ Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<
   if (tris.empty()) return out;
   const bool has_metric = !(size.kind == SizeSpec::Kind::Uniform && size.h <= 0);
   std::vector<Metric2> vm;
-  if (has_metric) {
+  // A uniform field has one metric: no per-vertex copy (half a million on a 1e6 mesh).
+  const Metric2 m_uniform = size.kind == SizeSpec::Kind::Uniform && has_metric ? detail::metric_at(size, 0, 0) : Metric2{};
+  if (has_metric && size.kind != SizeSpec::Kind::Uniform) {
     vm.resize(vertices.size());
     for (std::size_t i = 0; i < vertices.size(); ++i)
       vm[i] = detail::metric_at(size, vertices[i].x, vertices[i].y);
@@ -164,7 +166,7 @@ Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<
     const Vec2 d{pb.x - pa.x, pb.y - pa.y};
     // (A uniform field: one length, the rule is exact.)
     const double l = size.kind == SizeSpec::Kind::Uniform
-                         ? detail::length(vm[a], d)
+                         ? detail::length(m_uniform, d)
                          : (detail::length(vm[a], d) +
                             4 * detail::length(detail::metric_at(size, 0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y)), d) +
                             detail::length(vm[b], d)) / 6;
