@@ -245,22 +245,7 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
   // strictly on its left. Guaranteed for the exact isotropic kernel on a (constrained)
   // Delaunay mesh (§7.1.3); needed for the anisotropic kernel (§7.6.1), where the
   // criterion uses M(P) only. Checked always: a few filtered orientation tests.
-  // Field-point filter: the nearest existing vertex is a cavity vertex.
-  const double lim = prm.min_dist * prm.min_dist;
-  auto too_close = [&](VertId a) {
-    const double dx = P[a].x - p.x, dy = P[a].y - p.y;
-    double d2 = prm.m.m11 * dx * dx + 2 * prm.m.m12 * dx * dy + prm.m.m22 * dy * dy;
-    if (d2 < lim && prm.vertex_metrics && static_cast<std::size_t>(a) < prm.num_vertex_metrics) {
-      const Metric2& mv = prm.vertex_metrics[a];
-      const double lv2 = mv.m11 * dx * dx + 2 * mv.m12 * dx * dy + mv.m22 * dy * dy;
-      if (lv2 > d2) {
-        const double lp = std::sqrt(d2), lv = std::sqrt(lv2);
-        const double l = lv / lp - 1 < 1e-3 ? 0.5 * (lp + lv) : (lv - lp) / std::log(lv / lp);
-        d2 = l * l;
-      }
-    }
-    return d2 < lim;
-  };
+  // Field-point filter (after the loop): the nearest existing vertex is a cavity vertex.
   auto& bd = bd_;
   for (int attempt = 0;; ++attempt) {
     bd.resize(bnd_.size());
@@ -288,7 +273,7 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
   }
   if (prm.min_dist > 0)
     for (const BoundaryEdge& e : bd)
-      if (too_close(e.a)) return {InsertStatus::TooClose, e.a};
+      if (filter_too_close(prm, e.a, P[e.a], p)) return {InsertStatus::TooClose, e.a};
 
   // Replace the cavity by the ball: one new triangle (a, b, P) per boundary edge (a, b).
   // The cavity's slots are reused, last first (the order in which a free list would hand

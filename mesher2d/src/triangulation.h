@@ -20,6 +20,7 @@
 // inserted point falls in some triangle.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -46,6 +47,24 @@ struct InsertParams {
   std::size_t num_vertex_metrics = 0;
   bool allow_on_constraint = false;  // false: a point exactly on a constrained edge is rejected
 };
+
+// The field-point filter of InsertParams (min_dist, vertex_metrics): true when vertex a at
+// q is too close to the point p being inserted.
+inline bool filter_too_close(const InsertParams& prm, VertId a, const Vec2& q, const Vec2& p) {
+  const double lim = prm.min_dist * prm.min_dist;
+  const double dx = q.x - p.x, dy = q.y - p.y;
+  double d2 = prm.m.m11 * dx * dx + 2 * prm.m.m12 * dx * dy + prm.m.m22 * dy * dy;
+  if (d2 < lim && prm.vertex_metrics && static_cast<std::size_t>(a) < prm.num_vertex_metrics) {
+    const Metric2& mv = prm.vertex_metrics[a];
+    const double lv2 = mv.m11 * dx * dx + 2 * mv.m12 * dx * dy + mv.m22 * dy * dy;
+    if (lv2 > d2) {
+      const double lp = std::sqrt(d2), lv = std::sqrt(lv2);
+      const double l = lv / lp - 1 < 1e-3 ? 0.5 * (lp + lv) : (lv - lp) / std::log(lv / lp);
+      d2 = l * l;
+    }
+  }
+  return d2 < lim;
+}
 
 enum class InsertStatus { Inserted, Duplicate, TooClose, OnConstraint, Outside, BadCavity };
 
