@@ -47,6 +47,8 @@ constexpr double kSmoothAccept = 0.95;
 // 1 / 1.15, a margin under the Q_M <= 1.2.
 constexpr double kMaxminStop = 1 / 1.15;
 constexpr double kMaxminStopVarying = 1 / 1.3;
+// Varying-field swaps are tried on the edges of triangles with Q_K > 1.3 only.
+constexpr double kSwapSkipVarying = 1 / 1.3;
 // Targeted repair (Mesher::repair) works on triangles worse than this: Q_K > 1.18.
 constexpr double kRepairBad = 1 / 1.18;
 // For a varying field (scalar or metric) the repair works on triangles with Q_K > 1.4:
@@ -1228,6 +1230,7 @@ class Mesher {
   }
 
   std::int64_t swap_pass() {
+    if (multi_frame_) return swap_pass_varying();
     std::int64_t swaps = 0;
     const TriId nt = tri_.num_tris();
     for (TriId t = 0; t < nt; ++t) {
@@ -1248,6 +1251,37 @@ class Mesher {
           tri_.flip(h);
           ++swaps;
           break;  // t changed; its other edges are seen in a later pass
+        }
+      }
+    }
+    return swaps;
+  }
+  // swap_pass for a varying field: each triangle judged in the mean of its vertex metrics
+  // (tri_q, as the measure), computed once per pass; only edges whose worse triangle has
+  // Q_K above 1/kSwapSkipVarying are tried (a swap among better triangles changes nothing
+  // the repair and the measure look at, and most edges of a unit mesh are such).
+  std::int64_t swap_pass_varying() {
+    std::int64_t swaps = 0;
+    const TriId nt = tri_.num_tris();
+    tq_.resize(nt);
+    for (TriId t = 0; t < nt; ++t) tq_[t] = in_domain(t) ? tri_q(t) : 0.0;
+    for (TriId t = 0; t < nt; ++t) {
+      if (!in_domain(t) || !(tq_[t] < kSwapSkipVarying)) continue;
+      for (int i = 0; i < 3; ++i) {
+        const std::int32_t h = 3 * t + i;
+        if (tri_.seg[h] != kNone) continue;
+        const std::int32_t g = tri_.opp[h];
+        if (g == kNone || !in_domain(g / 3)) continue;
+        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+        const VertId d = tri_.tv[g];
+        const double before = std::min(tq_[t], tq_[g / 3]);
+        const double q1 = tri_q(c, a, d), q2 = tri_q(d, b, c);
+        if (std::min(q1, q2) > before * (1 + 1e-6) && tri_.flippable(h)) {
+          tri_.flip(h);  // t becomes (c, a, d), g / 3 becomes (d, b, c)
+          tq_[t] = q1;
+          tq_[g / 3] = q2;
+          ++swaps;
+          break;
         }
       }
     }
@@ -2178,6 +2212,7 @@ class Mesher {
     // field gets fewer global passes (measured on ring:1e-4,1e-2: 8 swap+smooth and 6
     // max-min passes give the same quality after the repair and size passes below, Q_M
     // 1.50 against 1.44, at twice the optimization time).
+    multi_frame_ = !iso_uniform_;
     const int kval = iso_uniform_ ? 3 : 1, kpre = iso_uniform_ ? opt_.optimize_passes : std::min(2, opt_.optimize_passes),
               kmm = iso_uniform_ ? 6 : 2;
     for (int pass = 0; pass < kval; ++pass) {
@@ -2349,6 +2384,7 @@ class Mesher {
     Vec2 a, b;             // its ring edge in its frame
   };
   std::vector<BallTri> bt_;     // per-triangle frames (multi_frame_)
+  std::vector<double> tq_;      // swap_pass_varying: 1/Q_K per triangle
   bool multi_frame_ = false;    // the field varies: each ball triangle in its own frame
   std::vector<VertId> rv_, ru_, merged_, nbr_;  // repair scratch: rings
   std::vector<std::pair<VertId, Vec2>> saved_;
