@@ -2034,7 +2034,11 @@ class Mesher {
           };
           const double before = region_min();
           bool any = false;
-          for (int sweep = 0; sweep < 3; ++sweep)
+          // Not for a varying field: there the sweeps cost a third of the optimization
+          // and the repair ends better without them (ring:1e-4,0.01: Q_M 1.45 against
+          // 1.78 with three sweeps; the restore rule below is judged per triangle frame).
+          const int sweeps = iso_uniform_ ? 3 : 0;
+          for (int sweep = 0; sweep < sweeps; ++sweep)
             for (const auto& [w, pw] : saved_) any |= pnorm_relocate(w, ring);
           for (int k = 0; k < 3; ++k) any |= maxmin_relocate(tri_.tv[3 * t + k], ring, 2.0, 8);
           if (any && !(region_min() > before)) {

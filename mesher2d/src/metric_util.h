@@ -46,6 +46,10 @@ struct MetricFrame {
 // keeping the eigenvectors and the smaller size.
 inline Metric2 cap_anisotropy(const Metric2& m, double cap) {
   const double tr = m.m11 + m.m22, det = m.m11 * m.m22 - m.m12 * m.m12;
+  // Eigenvalue ratio r = l2 / l1 within the cap (r >= 1 / cap^2) without square roots:
+  // det / tr^2 = r / (1 + r)^2 grows with r on (0, 1].
+  const double c2 = cap * cap;
+  if (det * (c2 + 1) * (c2 + 1) >= tr * tr * c2) return m;
   const double disc = std::sqrt(std::max(0.0, tr * tr / 4 - det));
   const double l1 = tr / 2 + disc, l2 = tr / 2 - disc;  // l1 >= l2
   const double lmin = l1 / (cap * cap);
