@@ -1708,7 +1708,6 @@ class Mesher {
   // free too the merged vertex is placed by maxmin_core on the union of both rings.
   bool try_collapse(TriId t) {
     std::array<std::pair<double, int>, 3> order;
-    const auto& P = tri_.pts;
     for (int i = 0; i < 3; ++i) order[i] = {rank_len2(tri_.tv[3 * t + detail::next3(i)], tri_.tv[3 * t + detail::prev3(i)]), i};
     std::sort(order.begin(), order.end());
     for (const auto& [len, i] : order) {
@@ -1806,7 +1805,6 @@ class Mesher {
   // the triangles across its four outer edges where that raises the worst quality (the
   // swaps that follow a split), and the vertex is placed by maxmin_core.
   bool try_split(TriId t) {
-    const auto& P = tri_.pts;
     int i = 0;
     double lmax = -1;
     for (int k = 0; k < 3; ++k) {
@@ -2114,6 +2112,7 @@ class Mesher {
       if (!(true_len(tri_.pts[e.a], vm_[e.a], rs_[e.a], e.b) > kSqrt2)) continue;
       changes += split_at(h, floor, true);
     }
+    if (!opt_.collapse_short_edges) return changes;
     for (const E& e : shorts) {
       if (over_time("optimization")) return changes;
       if (tri_.vtri[e.a] == kNone || tri_.vtri[e.b] == kNone) continue;
@@ -2271,11 +2270,11 @@ class Mesher {
       repair(kRepairBad, 12);
       return;
     }
-    // Shape, then size (§7.5.2 orders them the other way round; the size pass needs
-    // shapes good enough for its floor, and its changes are repaired after it), then
-    // shape again around what it changed.
-    repair(kRepairBadVarying, 12);
-    for (int pass = 0; pass < 3; ++pass) {
+    // Size, then shape (§7.5.2): two size passes, each followed by max-min relocation
+    // and swaps, then the repair of the triangles still worse than Q 1.4. (A repair
+    // before and after every size pass measured the same quality for 13% more work on
+    // ring:1e-4,0.01.)
+    for (int pass = 0; pass < 2; ++pass) {
       if (over_time("optimization")) return;
       const std::int64_t c = size_pass(kSizeFloor);
       if (c == 0) break;
@@ -2285,8 +2284,8 @@ class Mesher {
         res_.stats.relocations += r;
         res_.stats.swaps += sw;
       }
-      repair(kRepairBadVarying, 12);
     }
+    repair(kRepairBadVarying, 12);
   }
 
   // ---------------------------------------------------------------- checks, output

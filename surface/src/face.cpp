@@ -368,6 +368,10 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   o.domain_from_orientation = true;  // outer loop CCW, holes CW in (u,v)
   o.max_anisotropy = opt.size.max_uv_anisotropy;
   o.boundary_gradation = std::max(opt.size.gradation, 1.05);
+  // The (u,v) metric is a sampled lower bound on the density the chordal tolerance needs
+  // (the chordal repair below only adds points): mesher2d's size pass may split long
+  // edges but must not collapse short ones.
+  o.collapse_short_edges = false;
   o.time_limit = opt.face_time_limit;
   const m2d::Result r = m2d::mesh(in, size, o);
   if (!r.ok()) {

@@ -21,9 +21,13 @@
 //                                            points, the boundary edges' optimal points
 //                                            (§7.4.3) and the equilateral lattice of side h
 //   7. optimization                          (§7.3.6): quality swaps, relocation in the metric;
-//                                            isotropic fields: max-min relocation, and for
-//                                            a uniform field a repair of triangles with
-//                                            Q > 1.18 (swaps, edge collapse and split)
+//                                            max-min relocation and a repair of bad
+//                                            triangles (swaps, edge collapse and split:
+//                                            Q > 1.18 for a uniform field, Q > 1.4 for a
+//                                            varying one, each triangle judged in the mean
+//                                            of its vertex metrics); a varying field then
+//                                            gets a size pass (§7.5.2: split edges longer
+//                                            than sqrt2, collapse those under 1/sqrt2)
 #pragma once
 
 #include <array>
@@ -101,6 +105,12 @@ struct Options {
   // short in the plane but not a size anyone asked for).
   double boundary_gradation = 0;
   bool optimize = true;
+  // Size optimization of a varying field (§7.5.2): edges longer than sqrt2 in the metric
+  // are split, and with this on, edges shorter than 1/sqrt2 are collapsed. Off where the
+  // field is a lower bound on the density rather than the target (the surface stage: its
+  // sizes come from curvature sampled on a grid and its chordal repair only adds points;
+  // a subdivision crease cube went 1.3x over the chordal tolerance with collapses).
+  bool collapse_short_edges = true;
   int optimize_passes = 8;
   bool anisotropic_kernel = true;       // §7.6.1 cavity criterion under M(P) when kind==Metric
   double max_anisotropy = 1e6;          // cap on the ratio of metric eigenvalues' square roots
