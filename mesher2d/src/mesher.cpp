@@ -1201,7 +1201,7 @@ class Mesher {
           ++res_.stats.field_points_rejected;
           continue;
         }
-        const auto r = tri_.insert_point(c.p, t0 != kNone ? t0 : hint, prm);
+        const auto r = t0 != kNone ? tri_.insert_point_located(c.p, t0, o, prm) : tri_.insert_point(c.p, hint, prm);
         last_v = r.v;
         if (r.status == InsertStatus::Inserted) {
           if (subset_scan) born.push_back(r.v);
