@@ -6,14 +6,15 @@
 // midpoints projected on the limit surface), shape quality Q, time. One markdown table
 // row per cage and method on stdout.
 //
-// Times: "model" (OBJ read, OpenSubdiv topology and Bfr surfaces) is common to both and
-// reported once; "mesh" is mesh_model for uvmesh, tessellation + limit evaluation for
-// OpenSubdiv.
+// Times are CPU seconds of the process: "model" (OBJ read, OpenSubdiv topology and Bfr
+// surfaces) is common to both and reported once; "mesh" is mesh_model for uvmesh,
+// tessellation + limit evaluation for OpenSubdiv.
 #include <opensubdiv/bfr/parameterization.h>
 #include <opensubdiv/bfr/tessellation.h>
 
+#include <time.h>
+
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -31,8 +32,17 @@ namespace Sdc = OpenSubdiv::Sdc;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+// CPU time of the process (user + system): the machine is shared, so wall clocks measure
+// the neighbours; with --threads 1 both sides run on the calling thread.
+struct Clock {
+  using time_point = double;
+  static double now() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  }
+};
+double since(Clock::time_point t0) { return Clock::now() - t0; }
 
 Bfr::Parameterization param_of(const geom::SubdModelResult& r, const geom::SubdPatch& p) {
   return Bfr::Parameterization(r.scheme == geom::SubdScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK,

@@ -54,7 +54,8 @@ class Surface {
   /// Sides of bounds() along which sigma collapses to a point (a pole: sigma_u = 0 on
   /// a v-side, or sigma_v = 0 on a u-side). Bit set of SideBits.
   virtual unsigned singular_sides() const { return 0u; }
-  Vec3 point(double u, double v) const { return eval(u, v).p; }
+  /// sigma(u,v) alone; back ends whose derivatives cost extra work override it.
+  virtual Vec3 point(double u, double v) const { return eval(u, v).p; }
 };
 
 /// Finds the singular sides of s.bounds() by sampling: a side is singular when the
