@@ -119,14 +119,17 @@ int gradate(std::vector<Metric3>& metrics, const std::vector<geom::Vec3>& points
 FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, const SizeSpec& spec, geom::Id face,
                              int n)
     : s_(s), box_(box), spec_(spec), n_(std::max(n, 2)) {
+  // The gradated grid itself is not kept: only its M^{-1/2} is interpolated, and a model
+  // holds one field per face until its faces are meshed (bench/memory).
+  std::vector<Metric3> grid;
   std::vector<geom::Vec3> pts;
   pts.reserve(static_cast<std::size_t>(n_ * n_));
-  grid_.reserve(static_cast<std::size_t>(n_ * n_));
+  grid.reserve(static_cast<std::size_t>(n_ * n_));
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) {
       const double u = box_.u.at(double(i) / (n_ - 1)), v = box_.v.at(double(j) / (n_ - 1));
       pts.push_back(s_.point(u, v));
-      grid_.push_back(surface_metric(s_, u, v, spec_, face));
+      grid.push_back(surface_metric(s_, u, v, spec_, face));
     }
   auto id = [&](int i, int j) { return i * n_ + j; };
   // At a singular node (pole, cone apex) the curvature is undefined and surface_metric
@@ -135,7 +138,7 @@ FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, cons
   // goes to 0: the node takes the metric of its neighbour toward the box centre, halved
   // in size, so the fan of triangles around the apex stays close to the surface.
   {
-    std::vector<char> singular(grid_.size(), 0);
+    std::vector<char> singular(grid.size(), 0);
     for (int i = 0; i < n_; ++i)
       for (int j = 0; j < n_; ++j) {
         const double u = box_.u.at(double(i) / (n_ - 1)), v = box_.v.at(double(j) / (n_ - 1));
@@ -151,7 +154,7 @@ FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, cons
           b += (c > b) - (c < b);
         }
         if (!singular[static_cast<std::size_t>(id(a, b))])
-          grid_[static_cast<std::size_t>(id(i, j))] = grid_[static_cast<std::size_t>(id(a, b))] * 4.0;
+          grid[static_cast<std::size_t>(id(i, j))] = grid[static_cast<std::size_t>(id(a, b))] * 4.0;
       }
   }
   std::vector<std::pair<int, int>> edges;
@@ -161,9 +164,9 @@ FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, cons
       if (j + 1 < n_) edges.emplace_back(id(i, j), id(i, j + 1));
       if (i + 1 < n_ && j + 1 < n_) edges.emplace_back(id(i, j), id(i + 1, j + 1));
     }
-  corrections_ = gradate(grid_, pts, edges, spec_.gradation);
-  grid_inv_sqrt_.reserve(grid_.size());
-  for (const Metric3& m : grid_) grid_inv_sqrt_.push_back(m.power(-0.5));
+  corrections_ = gradate(grid, pts, edges, spec_.gradation);
+  grid_inv_sqrt_.reserve(grid.size());
+  for (const Metric3& m : grid) grid_inv_sqrt_.push_back(m.power(-0.5));
 }
 
 Metric3 FaceSizeField::metric3(double u, double v) const {

@@ -531,7 +531,6 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     } else {
       ref[v] = -static_cast<NodeId>(out.points.size()) - 1;
       out.points.push_back(lm.p[v]);
-      out.uv.push_back(lm.uv[v]);
     }
   }
   out.tris.reserve(lm.tris.size());

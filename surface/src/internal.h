@@ -91,9 +91,8 @@ class BoundaryCaps {
 /// (>= 0) for boundary nodes, or -(k + 1) for the face's own k-th interior point.
 struct FaceMesh {
   std::vector<geom::Vec3> points;  ///< interior points
-  std::vector<geom::Vec2> uv;      ///< their (u,v)
   std::vector<std::array<NodeId, 3>> tris;
-  std::vector<std::array<geom::Vec2, 3>> tri_uv;
+  std::vector<std::array<geom::Vec2, 3>> tri_uv;  ///< (u,v) of the corners (of interior points too)
   std::string error;  ///< non-empty: the face failed, with the reason
   /// Pieces of edges whose (u,v) polylines crossed: {edge, curve parameter of the
   /// piece's midpoint}. Splitting them lets the polylines follow the pcurves closer.

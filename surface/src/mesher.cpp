@@ -4,6 +4,9 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <algorithm>
 #include <atomic>
@@ -40,6 +43,15 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Gives the pages of freed heap memory back to the system. glibc keeps freed blocks
+// (the face meshes are many small vectors, allocated in the worker threads' arenas), so
+// without it the resident size never falls while stitching copies them into the output.
+void release_freed_memory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
 }
 
 template <class F>
@@ -79,7 +91,9 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   // ---- 0. per-face background size fields (§7.5.1), gradated on their grids.
   auto t0 = Clock::now();
   std::vector<std::unique_ptr<param::FaceSizeField>> fields(nf);
-  parallel_indices(arena, nf, [&](std::size_t f) {
+  // Deterministic: a field freed after its face is meshed is built again, identical, when
+  // a crossing round meshes the faces again (stage 2).
+  auto build_field = [&](std::size_t f) {
     const geom::Face& face = m.faces[f];
     if (!face.surface) {
       face_error[f] = "the face has no surface (kind " + std::string(geom::to_string(face.kind)) + ")";
@@ -90,7 +104,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     } catch (...) {
       face_error[f] = "the surface could not be evaluated on its parameter box";
     }
-  });
+  };
+  parallel_indices(arena, nf, build_field);
   // Coincident faces: an assembly written without imprinting often gives the interface
   // between two solids twice, as two faces on the same edges and the same surface. Both
   // meshed would put two different triangulations on one surface (intersecting, and
@@ -299,12 +314,16 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   parallel_indices(arena, nf, [&](std::size_t f) {
     if (!face_error[f].empty() || twin_of[f] != geom::kNone) return;
     const auto tf = Clock::now();
+    // A face's size field lives while its face is meshed only (memory: one grid per face
+    // of a model with thousands of faces); a later crossing round builds it again.
+    if (!fields[f]) build_field(f);
     try {
-      fm[f] = detail::mesh_face(m, static_cast<geom::Id>(f), edges, node_points, *fields[f], opt);
+      if (fields[f]) fm[f] = detail::mesh_face(m, static_cast<geom::Id>(f), edges, node_points, *fields[f], opt);
     } catch (...) {
       fm[f] = {};
       fm[f].error = "an exception was raised while evaluating the face's geometry";
     }
+    fields[f].reset();
     fm[f].stats.face = static_cast<geom::Id>(f);
     fm[f].stats.seconds = seconds_since(tf);
     if (!fm[f].error.empty()) face_error[f] = fm[f].error;
@@ -336,9 +355,28 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
                          " edge(s) split where (u,v) boundaries crossed; model meshed again");
   }
   res.stages.push_back({"faces", t_faces});
+  // Peak memory (issue 7, bench/memory): the face meshes and the whole output coexist
+  // while stitching. The output arrays are sized once instead of doubling as they grow
+  // (a doubling holds 1.5-3x the final array; a reservation is not resident until
+  // written), and the memory of the face meshes and of the meshers' working sets is
+  // given back as they are freed. Measured by bench/memory/run.sh.
+  release_freed_memory();
+  {
+    std::size_t add_points = 0, add_tris = 0;
+    for (std::size_t f = 0; f < nf; ++f)
+      if (face_error[f].empty() && twin_of[f] == geom::kNone) add_points += fm[f].points.size(), add_tris += fm[f].tris.size();
+    M.points.reserve(M.points.size() + add_points);
+    M.point_dim.reserve(M.points.capacity());
+    M.point_entity.reserve(M.points.capacity());
+    M.point_t.reserve(M.points.capacity());
+    M.triangles.reserve(add_tris);
+    M.triangle_face.reserve(add_tris);
+    M.triangle_uv.reserve(add_tris);
+  }
 
   // ---- 3. stitch: face points appended in face order; triangles refer to global ids.
   t0 = Clock::now();
+  std::size_t freed = 0;  // bytes of face meshes freed since the last release
   for (std::size_t f = 0; f < nf; ++f) {
     if (!face_error[f].empty()) {
       res.failed.push_back({static_cast<geom::Id>(f), face_error[f]});
@@ -362,7 +400,10 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       M.triangle_uv.push_back(F.tri_uv[t]);
     }
     res.faces.push_back(F.stats);
+    freed += F.points.capacity() * sizeof(F.points[0]) + F.tris.capacity() * sizeof(F.tris[0]) +
+             F.tri_uv.capacity() * sizeof(F.tri_uv[0]);
     F = {};
+    if (freed >= (std::size_t{4} << 20)) release_freed_memory(), freed = 0;
   }
   // Model vertices used by nothing (isolated CAD vertices) are dropped so that the mesh
   // has no unreferenced points; ids are compacted in order.

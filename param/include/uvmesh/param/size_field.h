@@ -102,7 +102,6 @@ class FaceSizeField {
   geom::Box2 box_;
   SizeSpec spec_;
   int n_;
-  std::vector<Metric3> grid_;
   std::vector<Metric3> grid_inv_sqrt_;  ///< M^{-1/2} per node: what is interpolated
   int corrections_ = 0;
 };
