@@ -37,7 +37,7 @@ struct Case {
   bool closed;
   // Known open problems (issue 5 closing note): checked with CHECK_NOFAIL, so they are
   // printed as failures in the log without failing the suite.
-  bool quality_known = false;  // valence-64 pole / non-manifold sheets: thin patches
+  bool quality_known = false;  // the valence-64 pole: one-element strips (issue 5 note)
   // catmark_car: its limit surface crosses itself (two rings of six patches, 1214-1219
   // and 1226-1231, which share no vertex). Mesh crossings are then accepted only between
   // patches whose dense tessellations cross too (limit_patches_cross).
@@ -48,7 +48,7 @@ const std::vector<Case> kCases = {
     {"catmark_cube.obj", true},          {"catmark_cube_creases1.obj", true}, {"catmark_chaikin0.obj", true},
     {"catmark_torus.obj", true},         {"loop_icosahedron.obj", true},      {"loop_cube_creases1.obj", true},
     {"catmark_tent_creases1.obj", false}, {"catmark_helmet.obj", false},      {"catmark_pole64.obj", false, true},
-    {"catmark_nonman_edges.obj", false, true}, {"catmark_pawn.obj", false},         {"catmark_car.obj", false, false, true}};
+    {"catmark_nonman_edges.obj", false}, {"catmark_pawn.obj", false},         {"catmark_car.obj", false, false, true}};
 
 // The limit surface of patch f sampled on an n x n grid of each of its quads (the unit
 // square, or every quad of an n-gon patch's polygon), appended to `out` as triangles.
