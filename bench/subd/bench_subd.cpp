@@ -20,9 +20,11 @@
 #include <cstdlib>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "uvmesh/geom/subd.h"
+#include "uvmesh/mesher2d/mesher2d.h"
 #include "uvmesh/surface/check3d.h"
 #include "uvmesh/surface/mesher.h"
 
@@ -164,6 +166,7 @@ int main(int argc, char** argv) {
   std::printf("| cage | method | triangles | chordal max / D | chordal mean / D | max / tol | Q<1.5 | Q p50 | Q p95 | "
               "Q max | mesh s | model s | note |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  double sum_ours = 0, sum_uni = 0, tri_ours = 0, tri_uni = 0;
   for (const std::string& path : cages) {
     const std::string name = path.substr(path.find_last_of('/') + 1);
     auto t0 = Clock::now();
@@ -197,6 +200,29 @@ int main(int argc, char** argv) {
     const surface::SurfaceMesh uni = tessellate(r, by_base, best);
     const double t_uni = since(t0);
     row(name, "osd uniform", uni, r.model, o.size.chordal_tol, t_uni, t_model, "rate " + std::to_string(best));
+    sum_ours += t_ours, sum_uni += t_uni;
+    tri_ours += static_cast<double>(ours.mesh.triangles.size()), tri_uni += static_cast<double>(uni.triangles.size());
   }
+  // The floor under uvmesh's time: mesher2d alone (no surface, no size field) on the unit
+  // square, with a uniform size and with a constant metric given as a callback (the path
+  // every surface face takes, its field varying), at about the car's triangle count.
+  auto m2d_rate = [](bool callback) {
+    m2d::Pslg in;
+    in.points = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    in.segments = {{0, 1, 1}, {1, 2, 1}, {2, 3, 1}, {3, 0, 1}};
+    const double h = 0.0025;
+    const auto t0 = Clock::now();
+    const m2d::Result res =
+        callback ? m2d::mesh(in, m2d::SizeSpec::aniso([&](double, double) { return m2d::Metric2{1 / (h * h), 0, 1 / (h * h)}; }), {})
+                 : m2d::mesh(in, m2d::SizeSpec::uniform(h), {});
+    const double t = since(t0);
+    return std::pair{1e6 * t / static_cast<double>(res.mesh.triangles.size()), res.mesh.triangles.size()};
+  };
+  const auto [us_uniform, n_uniform] = m2d_rate(false);
+  const auto [us_callback, n_callback] = m2d_rate(true);
+  std::printf("\nCPU microseconds per triangle: uvmesh %.2f (all cages), osd uniform %.3f (tessellation + limit "
+              "evaluation); mesher2d alone on a square: uniform size %.2f (%zu triangles), constant metric through the "
+              "callback %.2f (%zu triangles)\n",
+              1e6 * sum_ours / tri_ours, 1e6 * sum_uni / tri_uni, us_uniform, n_uniform, us_callback, n_callback);
   return 0;
 }

@@ -112,6 +112,13 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) > 0;
   };
   auto deviates = [&](const geom::Vec3& x, const geom::Vec2& uv0, double scale, geom::Vec2* foot) {
+    // sigma(uv0) is a point of the surface: when it is within lim of x, so is the
+    // surface, and the Newton projection (several evaluations with derivatives; 14% of
+    // the CPU time of meshing catmark_pawn) is not needed.
+    if (!foot) {
+      const geom::Vec3 q = s.point(uv0.x, uv0.y);
+      if (glm::length(q - x) <= lim) return false;
+    }
     const Projection pr = project_to_surface(s, x, uv0, box, scale);
     if (foot) *foot = pr.uv;
     return pr.converged && pr.distance > lim;
