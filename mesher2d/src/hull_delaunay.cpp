@@ -263,6 +263,11 @@ bool HullDelaunay::insert(VertId pv) {
   std::int32_t* cav = cav_.data();
   NewTri* ball = ball_.data();
   std::size_t ns = 0, nc = 0, m = 0;
+  // The triangles across the edges about to be tested are fetched ahead (the cavity test
+  // of a neighbour waits on its vertex ids, then on their coordinates).
+  __builtin_prefetch(&T[T[t].n[0] >> 2]);
+  __builtin_prefetch(&T[T[t].n[1] >> 2]);
+  __builtin_prefetch(&T[T[t].n[2] >> 2]);
   cav[nc++] = t;
   stk[ns++] = 4 * t + 2;
   stk[ns++] = 4 * t + 1;
@@ -274,7 +279,7 @@ bool HullDelaunay::insert(VertId pv) {
     const std::int32_t g = r.n[e];
     const std::int32_t u = g >> 2;
     if (conflict(T[u])) {
-      if (nc + 3 > cav_.size() || ns + 3 > stack_.size()) [[unlikely]] {
+      if (nc + 4 > cav_.size() || ns + 3 > stack_.size()) [[unlikely]] {
         cav_.resize(2 * cav_.size());
         stack_.resize(2 * stack_.size());
         ball_.resize(2 * ball_.size());
@@ -284,6 +289,8 @@ bool HullDelaunay::insert(VertId pv) {
       }
       cav[nc++] = u;
       const int j = g & 3;
+      __builtin_prefetch(&T[T[u].n[prev3(j)] >> 2]);
+      __builtin_prefetch(&T[T[u].n[next3(j)] >> 2]);
       stk[ns++] = 4 * u + prev3(j);
       stk[ns++] = 4 * u + next3(j);
     } else {
@@ -298,12 +305,13 @@ bool HullDelaunay::insert(VertId pv) {
   const std::int32_t nt = static_cast<std::int32_t>(tris.size());
   cav[nc++] = nt;
   cav[nc++] = nt + 1;
+  cav[m] = cav[0];  // the ring closes (room: the growth check above keeps 4 spare slots)
   tris.resize(tris.size() + 2);  // within the reserved capacity: T stays valid
   std::int32_t real = -1;
   std::int32_t sp = cav[m - 1];
   for (std::size_t k = 0; k < m; ++k) {
     const std::int32_t s = cav[k];
-    const std::int32_t sn = k + 1 == m ? cav[0] : cav[k + 1];
+    const std::int32_t sn = cav[k + 1];
     const NewTri b = ball[k];
     Tri& r = T[s];
     r.v[0] = b.a;

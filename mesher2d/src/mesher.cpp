@@ -143,8 +143,10 @@ class Mesher {
     output();
     stage("output", t0);
     if (field_error_) return;
-    res_.stats.quality = detail::measure_with_edges(res_.mesh.vertices, res_.mesh.triangles, measure_spec(), &edges_);
-    stage("measure", t0);
+    if (opt_.measure) {
+      res_.stats.quality = detail::measure_with_edges(res_.mesh.vertices, res_.mesh.triangles, measure_spec(), &edges_);
+      stage("measure", t0);
+    }
     if (opt_.check) {
       CheckReport rep = check(res_.mesh, in_, {.delaunay = !opt_.refine});
       if (!rep.ok()) fail(StatusCode::InternalError, "checker: " + rep.errors.front());
@@ -560,8 +562,10 @@ class Mesher {
     stage("delaunay", t0);
     output_hull(dh);
     stage("output", t0);
-    res_.stats.quality = measure(res_.mesh.vertices, res_.mesh.triangles, SizeSpec::uniform(0));
-    stage("measure", t0);
+    if (opt_.measure) {
+      res_.stats.quality = measure(res_.mesh.vertices, res_.mesh.triangles, SizeSpec::uniform(0));
+      stage("measure", t0);
+    }
     if (opt_.check) {
       CheckReport rep = check(res_.mesh, in_, {.delaunay = true});
       if (!rep.ok()) fail(StatusCode::InternalError, "checker: " + rep.errors.front());
@@ -2336,7 +2340,7 @@ class Mesher {
     M.triangles.reserve(M.triangles.size() + ndom);
     M.triangle_region.reserve(M.triangle_region.size() + ndom);
     M.triangle_attribute.reserve(M.triangle_attribute.size() + ndom);
-    edges_.reserve(edges_.size() + 3 * ndom / 2 + static_cast<std::size_t>(nv));
+    if (opt_.measure) edges_.reserve(edges_.size() + 3 * ndom / 2 + static_cast<std::size_t>(nv));
     auto take = [&](VertId v) {
       if (v == kNone || !used[v] || newid[v] != kNone) return;
       newid[v] = static_cast<VertId>(M.vertices.size());
@@ -2359,7 +2363,7 @@ class Mesher {
       M.triangle_attribute.push_back(attr_[c]);
       for (int i = 0; i < 3; ++i) {
         const std::int32_t h = 3 * t + i;
-        {
+        if (opt_.measure) {
           // Every undirected edge once, for the measures.
           const std::int32_t g = tri_.opp[h];
           if (g == kNone || !in_domain(g / 3) || g > h) {

@@ -78,9 +78,10 @@ inline double orient2d_filter(const double* a, const double* b, const double* c)
   const double det = detleft - detright;
   const double bound = kO2A * (std::fabs(detleft) + std::fabs(detright));
   const double errbound = bound > kFloor ? bound : kFloor;
-  // A NaN det makes both comparisons false; an infinite det comes with an infinite
+  // One comparison of |det| (the sign is tested by the caller: one data-dependent branch,
+  // not two). A NaN det makes it false; an infinite det comes with an infinite
   // bound. Either way the slow path decides.
-  if (det > errbound || -det > errbound) [[likely]] return det;
+  if (std::fabs(det) > errbound) [[likely]] return det;
   return 0;
 }
 
@@ -119,7 +120,7 @@ inline double incircle_filter(const double* a, const double* b, const double* c,
   const double least = kFloor * (lifts > 1.0 ? lifts : 1.0);
   const double bound = kIcA * permanent;
   const double errbound = bound > least ? bound : least;
-  if (det > errbound || -det > errbound) [[likely]] return det;
+  if (std::fabs(det) > errbound) [[likely]] return det;
   return 0;
 }
 

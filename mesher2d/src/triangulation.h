@@ -28,8 +28,12 @@
 
 namespace uvmesh::m2d::detail {
 
-inline int next3(int i) { return i == 2 ? 0 : i + 1; }
-inline int prev3(int i) { return i == 0 ? 2 : i - 1; }
+// Branch-free (two-bit tables 0b00'10'01 and 0b01'00'10 indexed by 2i): the local index
+// depends on data (the edge a walk or a cavity enters by), so a conditional is
+// mispredicted about every other time; cachegrind counted these two as 46% of the
+// mispredicted branches of the Delaunay kernel.
+inline int next3(int i) { return (0x09 >> (2 * i)) & 3; }
+inline int prev3(int i) { return (0x12 >> (2 * i)) & 3; }
 
 // What the cavity criterion of one insertion uses (§7.3.2 isotropic, §7.6.1 anisotropic).
 struct InsertParams {

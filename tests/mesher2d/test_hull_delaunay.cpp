@@ -11,6 +11,8 @@
 #include <random>
 #include <set>
 #include <string>
+#include <tuple>
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -178,4 +180,68 @@ TEST_CASE("hull Delaunay: degenerate inputs are reported", "[hull_dt]") {
   Pslg in;
   in.points = {{0, 0}, {1e-300, 0}, {0, 1e90}};  // (|coordinates| <= 1e100 is accepted)
   check_hull_dt(in, mesh(in, SizeSpec::uniform(0), dt_options()));
+}
+
+TEST_CASE("hull Delaunay: nearly coincident, nearly collinear and nearly cocircular points", "[hull_dt]") {
+  // Inputs on which the floating-point filters of orient2d and incircle cannot decide, so
+  // that the exact stages run inside the walk and the cavity tests.
+  std::mt19937_64 rng(23);
+  auto nudge = [&](double v) {
+    const int k = static_cast<int>(rng() % 5) - 2;  // -2..2 ulps
+    for (int i = 0; i < k; ++i) v = std::nextafter(v, 1e300);
+    for (int i = 0; i > k; --i) v = std::nextafter(v, -1e300);
+    return v;
+  };
+  for (int round = 0; round < 40; ++round) {
+    INFO("round " << round);
+    Pslg in;
+    const double base = round % 2 ? 1e6 : 0.0;  // far from the origin: differences lose bits
+    const int g = 3 + static_cast<int>(rng() % 10);
+    for (int i = 0; i < 400; ++i) {
+      const double x = base + static_cast<double>(rng() % g) * 0x1p-20;
+      const double y = base + static_cast<double>(rng() % g) * 0x1p-20;
+      in.points.push_back({nudge(x), nudge(y)});
+    }
+    // A near-line: y = x plus or minus a few ulps, and a near-circle of radius 2^-18.
+    for (int i = 0; i < 100; ++i) {
+      const double t = base + static_cast<double>(rng() % 4096) * 0x1p-24;
+      in.points.push_back({t, nudge(t)});
+      const double a = static_cast<double>(rng() % 100000) * 6.283185307179586e-5;
+      in.points.push_back({nudge(base + 0x1p-18 * std::cos(a)), nudge(base + 0x1p-18 * std::sin(a))});
+    }
+    check_hull_dt(in, mesh(in, SizeSpec::uniform(0), dt_options()));
+  }
+}
+
+TEST_CASE("Options::measure off: same mesh, no quality statistics, no measure stage", "[hull_dt]") {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  Pslg dt;
+  for (int i = 0; i < 2000; ++i) dt.points.push_back({u(rng), u(rng)});
+  Pslg sq;
+  sq.points = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  sq.segments = {{0, 1, 1}, {1, 2, 1}, {2, 3, 1}, {3, 0, 1}};
+  for (const auto& [in, size, refine] : {std::tuple{dt, SizeSpec::uniform(0), false},
+                                         std::tuple{sq, SizeSpec::uniform(0.05), true}}) {
+    Options on, off;
+    on.refine = off.refine = refine;
+    off.measure = false;
+    const Result a = mesh(in, size, on), b = mesh(in, size, off);
+    REQUIRE(a.ok());
+    REQUIRE(b.ok());
+    CHECK(a.stats.quality.q_max >= 1);
+    CHECK(b.stats.quality.q_max == 0);
+    CHECK(b.stats.quality.edges == 0);
+    auto has_measure = [](const Result& r) {
+      return std::any_of(r.stats.stages.begin(), r.stats.stages.end(),
+                         [](const Stats::Stage& s) { return s.name == "measure"; });
+    };
+    CHECK(has_measure(a));
+    CHECK_FALSE(has_measure(b));
+    CHECK(a.mesh.vertices.size() == b.mesh.vertices.size());
+    CHECK(a.mesh.triangles == b.mesh.triangles);
+    CHECK(a.mesh.boundary_edges.size() == b.mesh.boundary_edges.size());
+    // The quality the mesher would have reported is that of measure() on the mesh.
+    CHECK(measure(b.mesh.vertices, b.mesh.triangles, size).q_max == a.stats.quality.q_max);
+  }
 }

@@ -120,6 +120,11 @@ struct Options {
   // report the one that would run away instead of never finishing.
   double time_limit = 0;
   bool check = false;                   // run the checker after each stage (debug builds: on)
+  // Compute Stats::quality (a pass over the output mesh; with a varying field it samples
+  // the field at every vertex and edge midpoint). Off for callers that do not read it
+  // (the surface stage; a benchmark that measures the mesh itself): Stats::quality then
+  // stays zero and the "measure" stage is not listed.
+  bool measure = true;
 };
 
 struct Triangle3 {
