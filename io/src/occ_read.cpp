@@ -5,6 +5,9 @@
 #include <BRepAlgoAPI_BuilderAlgo.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepGProp.hxx>
+#include <TopoDS_Edge.hxx>
+#include <GProp_GProps.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
@@ -40,6 +43,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -104,6 +109,21 @@ Counts count(const TopoDS_Shape& s) {
     ++c.free_edges;
   }
   return c;
+}
+
+// Length of the shortest non-degenerate edge (the sewing tolerance stays well below it).
+double shortest_edge_length(const TopoDS_Shape& s) {
+  TopTools_IndexedMapOfShape m;
+  TopExp::MapShapes(s, TopAbs_EDGE, m);
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 1; i <= m.Extent(); ++i) {
+    const TopoDS_Edge& e = TopoDS::Edge(m(i));
+    if (BRep_Tool::Degenerated(e)) continue;
+    GProp_GProps g;
+    BRepGProp::LinearProperties(e, g);
+    best = std::min(best, g.Mass());
+  }
+  return best;
 }
 
 double diagonal(const TopoDS_Shape& s) {
@@ -417,36 +437,70 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
       if (c0.free_edges > 0 && c0.faces > 1) {
         stage = "healing (sewing)";
         const auto ts = Clock::now();
-        const double tol = opt.sew_rel_tol * diagonal(shape);
-        BRepBuilderAPI_Sewing sew(tol);
-        sew.Add(shape);
-        sew.Perform();
-        const TopoDS_Shape sewn = sew.SewedShape();
-        HealStep h;
-        if (!sewn.IsNull()) {
-          const Counts c1 = count(sewn);
-          h = make_step("sewing", c0, c1);
-          // Keep the result only when it closed gaps without losing faces or solids
-          // (sewing returns shells: solids of the input would be dissolved).
-          const bool closed = c1.free_edges < c0.free_edges;
-          const bool loses = c1.faces < c0.faces || c1.solids < c0.solids;
-          h.applied = closed && !loses;
-          std::ostringstream os;
-          os << "BRepBuilderAPI_Sewing, tolerance " << tol << ": " << counts_text(h)
-             << (h.applied ? "" : loses ? " (not kept: it would lose faces or solids)" : " (not kept: no free edge closed)");
-          h.detail = os.str();
-          if (h.applied) {
-            shape = sewn;
-            c0 = c1;
-            names.follow([&](const TopoDS_Shape& s) {
-              return std::vector<TopoDS_Shape>{sew.IsModified(s) ? sew.Modified(s) : s};
-            });
+        const double diag = diagonal(shape);
+        // Sew at the base tolerance; while free edges remain, try tenfold larger ones up
+        // to sew_max_rel_tol (see ReadOptions), each on the ShapeFix result, and keep the
+        // attempt that closes the most (the smallest tolerance among equals). A tolerance
+        // is tried only below a tenth of the shortest edge, so no real edge collapses.
+        struct Attempt {
+          double tol = 0.0;
+          std::unique_ptr<BRepBuilderAPI_Sewing> sew;
+          TopoDS_Shape sewn;
+          Counts counts;
+          bool usable = false;
+        };
+        std::vector<Attempt> tries;
+        const double max_tol = std::max(opt.sew_rel_tol, opt.sew_max_rel_tol) * diag;
+        double shortest = -1.0;  // computed only if an escalation is needed
+        for (double tol = opt.sew_rel_tol * diag; tol <= max_tol * (1 + 1e-9); tol *= 10) {
+          if (!tries.empty()) {
+            if (shortest < 0) shortest = shortest_edge_length(shape);
+            if (tol > 0.1 * shortest) break;
           }
-        } else {
-          h = make_step("sewing", c0, c0);
-          h.detail = "sewing produced no shape (not kept)";
+          Attempt t;
+          t.tol = tol;
+          t.sew = std::make_unique<BRepBuilderAPI_Sewing>(tol);
+          t.sew->Add(shape);
+          t.sew->Perform();
+          t.sewn = t.sew->SewedShape();
+          if (!t.sewn.IsNull()) {
+            t.counts = count(t.sewn);
+            // Keep a result only when it closed gaps without losing faces or solids
+            // (sewing returns shells: solids of the input would be dissolved).
+            t.usable = t.counts.free_edges < c0.free_edges && t.counts.faces >= c0.faces &&
+                       t.counts.solids >= c0.solids;
+          }
+          const bool done = t.usable && t.counts.free_edges == 0;
+          tries.push_back(std::move(t));
+          if (done) break;
         }
-        h.name = "sewing";
+        const Attempt* best = nullptr;
+        for (const Attempt& t : tries)
+          if (t.usable && (!best || t.counts.free_edges < best->counts.free_edges)) best = &t;
+        HealStep h = make_step("sewing", c0, best ? best->counts : c0);
+        h.applied = best != nullptr;
+        std::ostringstream os;
+        os << "BRepBuilderAPI_Sewing";
+        for (const Attempt& t : tries) {
+          os << (&t == &tries.front() ? ", tolerance " : "; tolerance ") << t.tol << ": ";
+          if (t.sewn.IsNull()) {
+            os << "no shape";
+            continue;
+          }
+          os << "free edges " << c0.free_edges << "->" << t.counts.free_edges;
+          if (t.counts.faces < c0.faces || t.counts.solids < c0.solids) os << " (would lose faces or solids)";
+          if (&t == best) os << " [kept]";
+        }
+        if (tries.size() == 1 && tries.front().sewn.IsNull()) h.detail = "sewing produced no shape (not kept)";
+        else h.detail = os.str() + (best ? " -- " + counts_text(h) : " (not kept: no free edge closed)");
+        if (best) {
+          shape = best->sewn;
+          c0 = best->counts;
+          const BRepBuilderAPI_Sewing& sew = *best->sew;
+          names.follow([&](const TopoDS_Shape& s) {
+            return std::vector<TopoDS_Shape>{sew.IsModified(s) ? sew.Modified(s) : s};
+          });
+        }
         h.seconds = seconds_since(ts);
         res.report.healing.push_back(h);
       }

@@ -37,6 +37,7 @@ struct ReadFlags {
   bool partial = false;
   bool no_check = false;
   double sew_rel_tol = 1e-6;
+  double sew_max_rel_tol = 1e-4;
   std::string units;  // "" = the file's own unit
 };
 
@@ -62,6 +63,11 @@ inline void add_read_flags(CLI::App* cmd, ReadFlags& f) {
   cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");
   cmd->add_option("--sew-tol", f.sew_rel_tol, "sewing tolerance relative to the bounding-box diagonal")
       ->check(finite_positive());
+  cmd->add_option("--sew-max-tol", f.sew_max_rel_tol,
+                  "while free edges remain, sewing is retried at tenfold tolerances up to this one "
+                  "(relative to the diagonal; at most a tenth of the shortest edge); default 1e-4, "
+                  "equal to --sew-tol to sew once")
+      ->check(finite_positive());
   cmd->add_option("--units", f.units,
                   "convert coordinates to this length unit (" + uvmesh::io::known_length_units() +
                       "); default: keep the unit the file declares (BREP files have none)")
@@ -80,6 +86,7 @@ inline uvmesh::io::ReadOptions read_options(const ReadFlags& f) {
   o.conform = f.conform;
   o.trust_content = f.any_extension;
   o.sew_rel_tol = f.sew_rel_tol;
+  o.sew_max_rel_tol = f.sew_max_rel_tol;
   o.allow_partial = f.partial;
   o.check_validity = !f.no_check;
   o.units = f.units;

@@ -196,6 +196,21 @@ TEST_CASE("corpus: the loose faces named by the issue get sewn", "[io][corpus][h
   CHECK(j["free_edges"].get<int>() < 50);
 }
 
+TEST_CASE("corpus: gaps of ~1e-5 of the diagonal close by retried sewing (gmsh_t106_blade, occt_hammer)",
+          "[io][corpus][heal]") {
+  // Sewn once at 1e-6 of the diagonal, t106_blade kept 2 free edges and hammer 2: copies
+  // of one curve on two faces, ~1e-5 of the diagonal apart. Meshed unsewn, the two
+  // discretizations of the curve crossed each other: 42 and 29 self-intersections. The
+  // retries at 1e-5 and 1e-4 close them; --sew-max-tol equal to --sew-tol sews once.
+  for (const std::string f : {"cad/gmsh_t106_blade.step", "cad/occt_hammer.igs"}) {
+    INFO(f);
+    const json j = json::parse(run("info --json " + kData + "/" + f).out);
+    CHECK(j["free_edges"].get<int>() == 0);
+    const json once = json::parse(run("info --json --sew-max-tol 1e-6 " + kData + "/" + f).out);
+    CHECK(once["free_edges"].get<int>() == 2);
+  }
+}
+
 TEST_CASE("corpus: --conform imprints touching solids on each other", "[io][corpus][conform]") {
   const Run x = run("info --json --conform " + kData + "/cad/dagmc_two_cubes.stp");
   REQUIRE(x.rc == 0);

@@ -37,6 +37,15 @@ struct ReadOptions {
   /// typical IGES exports (single-precision writers leave ~1e-7 relative gaps) without
   /// merging features: the corpus' shortest real edges are ~1e-4 of the diagonal.
   double sew_rel_tol = 1e-6;
+  /// Largest sewing tolerance tried, relative to the diagonal, when free edges remain
+  /// after sewing at sew_rel_tol: the tolerance grows tenfold per attempt up to this
+  /// value, and never beyond a tenth of the model's shortest edge (sewing at a tolerance
+  /// near an edge's length merges that edge's ends). Some exports leave gaps of ~1e-5 of
+  /// the diagonal between faces that meet (gmsh_t106_blade, occt_hammer); meshing such a
+  /// model unsewn gives two independent discretizations of one curve, whose chords cross
+  /// each other: self-intersections. 1e-4 is a tenth of the default hmin (D/1000), a gap
+  /// no mesh at these sizes can represent. Set it to sew_rel_tol to sew only once.
+  double sew_max_rel_tol = 1e-4;
   /// Make an assembly conforming: general fuse (BRepAlgoAPI_BuilderAlgo) of all solids,
   /// so that touching solids share their interface faces. Off by default: it changes
   /// the topology and costs seconds on large assemblies.
