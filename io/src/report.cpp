@@ -221,12 +221,15 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
     d.intersections = surface::find_self_intersections(m, opt.max_list, opt.threads);
   // With a model, bad triangles across gaps narrower than the mesher's proximity floor
   // (for the sizes given, else the default sizes') are counted apart from the others.
+  // Gaps within the CAD tolerances of the two edges count as narrow as well.
   double narrow_gap = 0.0;
+  std::vector<double> edge_gap;
   if (model) {
     const double D = model->bbox.diagonal();
     narrow_gap = surface::proximity_floor(opt.size ? *opt.size : surface::default_size(*model), D);
+    edge_gap = surface::edge_gap_floors(*model);
   }
-  d.quality = surface::measure_quality(m, opt.max_list, narrow_gap);
+  d.quality = surface::measure_quality(m, opt.max_list, narrow_gap, model ? &edge_gap : nullptr);
 
   // Edge lengths relative to the median edge: the report of a mesh without a size field
   // still shows how uniform (or how graded) the sizes are.
@@ -310,7 +313,8 @@ nlohmann::json report_json(const CheckData& d) {
                   {"max_angle_deg", q.max_angle_deg},
                   {"bad_at_corners", q.bad_at_corners},
                   {"bad_away_from_corners", q.bad_away_from_corners},
-                  {"bad_in_narrow_gaps", q.bad_in_narrow_gaps}};
+                  {"bad_in_narrow_gaps", q.bad_in_narrow_gaps},
+                  {"widest_narrow_gap", q.widest_narrow_gap}};
   nlohmann::json bad = nlohmann::json::array();
   for (const auto& b : q.bad_list)
     bad.push_back({{"triangle", b.triangle}, {"face", b.face}, {"Q", b.Q}});

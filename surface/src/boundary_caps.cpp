@@ -28,6 +28,21 @@ geom::Vec3 closest_on_segment(const geom::Vec3& x, const geom::Vec3& a, const ge
 
 namespace uvmesh::surface {
 
+double gap_tolerance(const geom::Model& m, geom::Id edge) {
+  if (edge < 0 || static_cast<std::size_t>(edge) >= m.edges.size()) return 0.0;
+  const geom::Edge& e = m.edges[static_cast<std::size_t>(edge)];
+  double t = e.tol;
+  for (geom::Id v : {e.v0, e.v1})
+    if (v >= 0 && static_cast<std::size_t>(v) < m.vertices.size()) t = std::max(t, m.vertices[static_cast<std::size_t>(v)].tol);
+  return t;
+}
+
+std::vector<double> edge_gap_floors(const geom::Model& m) {
+  std::vector<double> g(m.edges.size());
+  for (std::size_t e = 0; e < g.size(); ++e) g[e] = kGapToleranceFactor * gap_tolerance(m, static_cast<geom::Id>(e));
+  return g;
+}
+
 double proximity_floor(const param::SizeSpec& spec, double diagonal) {
   return 0.01 * (spec.hmin > 0 ? spec.hmin : 1e-3 * diagonal);
 }
@@ -51,6 +66,7 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
     const geom::Edge& ed = m.edges[e];
     if (ed.degenerate || !ed.curve || t[e].size() < 2) continue;
     EdgePoly& P = poly_[e];
+    P.tol = gap_tolerance(m, static_cast<geom::Id>(e));
     for (double s : t[e]) P.p.push_back(ed.curve->point(s));
     const std::size_t n = P.p.size();
     P.h.assign(n, std::numeric_limits<double>::infinity());
@@ -101,6 +117,8 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
       // near x lie along the tangent (proximity would reject them anyway).
       if (oe == e) continue;
       const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
+      // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor).
+      const double gap_floor = std::max(prox_floor_, kGapToleranceFactor * (self.tol + P.tol));
       // Below hmin, gradation comes only through a vertex the two edges share. An edge
       // refined below hmin by proximity (a narrow gap) that ends on a coarse edge makes a
       // jump of 50x there, and the triangles at the joint are caps. Graded from the shared
@@ -155,7 +173,7 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
           // A gap below the floor (a face narrower than hmin / 100: a CAD defect rather
           // than a feature) cannot be resolved within the floor; refining along it would
           // only multiply the slivers across it, so it is left to the other caps.
-          if (d >= prox || d < prox_floor_) continue;
+          if (d >= prox || d < gap_floor) continue;
           if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
           prox = std::min(prox, d);
         }

@@ -600,7 +600,8 @@ double triangle_Q(const Vec3& a, const Vec3& b, const Vec3& c) {
   return kAlpha * std::max({ab, bc, ca}) * (ab + bc + ca) / area2;
 }
 
-QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_gap) {
+QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_gap,
+                              const std::vector<double>* edge_gap) {
   QualityReport r;
   const std::size_t nt = m.triangles.size();
   std::vector<double> Q(nt, -1.0), amin(nt, 180.0), amax(nt, 0.0);
@@ -640,6 +641,7 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_
       if (!m.point_dim.empty())
         for (NodeId i : m.triangles[t]) corner = corner || m.point_dim[i] == 0;
       bool gap = false;
+      double width = 0.0;
       if (!corner && narrow_gap > 0 && !m.point_dim.empty()) {
         bool on_edges = true;
         for (NodeId i : m.triangles[t]) on_edges = on_edges && m.point_dim[i] <= 1 && m.point_dim[i] >= 0;
@@ -647,13 +649,30 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_
           const pred3::Tri c = corners(m, t);
           const double area2 = glm::length(glm::cross(c[1] - c[0], c[2] - c[0]));
           const double hmax = std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
-          gap = area2 < narrow_gap * hmax;  // width = area2 / hmax
+          double floor = narrow_gap;
+          if (edge_gap && !m.point_entity.empty()) {
+            // The two distinct edges the points lie on with the largest floor between them.
+            std::array<double, 3> g{0, 0, 0};
+            std::array<geom::Id, 3> e{geom::kNone, geom::kNone, geom::kNone};
+            for (int k = 0; k < 3; ++k) {
+              const NodeId i = m.triangles[t][k];
+              if (m.point_dim[i] != 1) continue;
+              e[k] = m.point_entity[i];
+              if (e[k] >= 0 && static_cast<std::size_t>(e[k]) < edge_gap->size()) g[k] = (*edge_gap)[static_cast<std::size_t>(e[k])];
+            }
+            for (int a = 0; a < 3; ++a)
+              for (int b = a + 1; b < 3; ++b)
+                if (e[a] != geom::kNone && e[b] != geom::kNone && e[a] != e[b]) floor = std::max(floor, g[a] + g[b]);
+          }
+          width = area2 / hmax;
+          gap = area2 < floor * hmax;
         }
       }
       if (corner) {
         ++r.bad_at_corners;
       } else if (gap) {
         ++r.bad_in_narrow_gaps;
+        r.widest_narrow_gap = std::max(r.widest_narrow_gap, width);
       } else {
         ++r.bad_away_from_corners;
         bad.push_back({static_cast<TriId>(t), face_of(m, t), q});

@@ -4,9 +4,11 @@
 // back through sigma and the mesh is improved in 3D.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <sstream>
+#include <unordered_map>
 
 #include "internal.h"
 #include "uvmesh/mesher2d/mesher2d.h"
@@ -61,42 +63,123 @@ int pole_segments(const geom::EdgeUse& use, const geom::Surface& s, const param:
 // many times per vertex (edge sampling, eq. 7.10; relocation); each exact value costs a
 // surface evaluation and two 3x3 eigen-decompositions, while the field behind it is
 // itself a smooth background grid (§7.5.1). Only the cells the mesher visits are filled.
+//
+// The 3D field is smooth, but J need not be: where a spline patch's parametrization is
+// strongly non-uniform (knots crowded in one corner, a nearly collapsed control row, a
+// terrain patch whose (u,v) speed varies across it) J^T J changes by large factors
+// inside one cell of the 64 x 64 grid. Interpolated there, the (u,v) metric is right at
+// the nodes and wrong in between, and the mesh follows the wrong sizes. So a cell is
+// checked against the exact metric at its centre when first visited, and split in four
+// (recursively, a quadtree, down to kMaxDepth levels) while the interpolated metric
+// measures some direction more than kTol off the exact one. Hanging nodes make the field
+// slightly discontinuous across a split cell's side, which the mesher's edge sampling
+// tolerates.
 class UvMetricGrid {
  public:
-  UvMetricGrid(const param::FaceSizeField& field, const geom::Box2& box, int n = 64)
-      : field_(field), box_(box), n_(n), vals_(static_cast<std::size_t>((n + 1) * (n + 1))),
-        has_(vals_.size(), 0) {}
+  UvMetricGrid(const param::FaceSizeField& field, const geom::Box2& box, unsigned singular_sides, int n = 64)
+      : field_(field), box_(box), singular_(singular_sides), n_(n), vals_(static_cast<std::size_t>((n + 1) * (n + 1))),
+        has_(vals_.size(), 0), state_(static_cast<std::size_t>(n * n), kUnknown) {}
   m2d::Metric2 operator()(double u, double v) {
-    int i, j;
-    double tu, tv;
-    cell(box_.u, u, i, tu);
-    cell(box_.v, v, j, tv);
-    const param::Metric2 &a = at(i, j), &b = at(i + 1, j), &c = at(i, j + 1), &d = at(i + 1, j + 1);
-    const double w00 = (1 - tu) * (1 - tv), w10 = tu * (1 - tv), w01 = (1 - tu) * tv, w11 = tu * tv;
-    auto mix = [&](int r, int k) { return w00 * a(r, k) + w10 * b(r, k) + w01 * c(r, k) + w11 * d(r, k); };
-    return {mix(0, 0), mix(0, 1), mix(1, 1)};
+    const double fu = frac(box_.u, u), fv = frac(box_.v, v);
+    int level = 0;
+    for (;;) {
+      const int cells = n_ << level;
+      const int i = std::min(static_cast<int>(fu * cells), cells - 1);
+      const int j = std::min(static_cast<int>(fv * cells), cells - 1);
+      const double tu = fu * cells - i, tv = fv * cells - j;
+      std::int8_t& st = state(level, i, j);
+      if (st == kUnknown) st = split_needed(level, i, j) ? kSplit : kLeaf;
+      if (st == kLeaf) {
+        const param::Metric2 m = bilinear(level, i, j, tu, tv);
+        return {m(0, 0), m(0, 1), m(1, 1)};
+      }
+      ++level;
+    }
   }
 
  private:
-  void cell(const geom::Interval& r, double x, int& k, double& t) const {
+  static constexpr int kMaxDepth = 8;
+  static constexpr double kTol = 1.25;  // ratio of metric lengths, either way
+  enum : std::int8_t { kUnknown = 0, kLeaf = 1, kSplit = 2 };
+
+  static double frac(const geom::Interval& r, double x) {
     const double len = r.length() > 0 ? r.length() : 1.0;
-    const double sx = std::clamp((x - r.lo) / len, 0.0, 1.0) * n_;
-    k = std::min(static_cast<int>(sx), n_ - 1);
-    t = sx - k;
+    return std::clamp((x - r.lo) / len, 0.0, 1.0);
   }
-  const param::Metric2& at(int i, int j) {
-    const auto k = static_cast<std::size_t>(i * (n_ + 1) + j);
-    if (!has_[k]) {
-      vals_[k] = field_.metric_uv(box_.u.at(double(i) / n_), box_.v.at(double(j) / n_));
-      has_[k] = 1;
+  std::int8_t& state(int level, int i, int j) {
+    if (level == 0) return state_[static_cast<std::size_t>(i * n_ + j)];
+    return deep_state_[key(level, i, j)];
+  }
+  static std::uint64_t key(int level, int i, int j) {
+    return (static_cast<std::uint64_t>(level) << 56) | (static_cast<std::uint64_t>(i) << 28) |
+           static_cast<std::uint64_t>(j);
+  }
+  // Node (i, j) of level `level`: nodes shared with a coarser level are stored once, at
+  // the coarsest level that has them.
+  const param::Metric2& node(int level, int i, int j) {
+    while (level > 0 && i % 2 == 0 && j % 2 == 0) i /= 2, j /= 2, --level;
+    if (level == 0) {
+      const auto k = static_cast<std::size_t>(i * (n_ + 1) + j);
+      if (!has_[k]) {
+        vals_[k] = exact(0, i, j);
+        has_[k] = 1;
+      }
+      return vals_[k];
     }
-    return vals_[k];
+    const std::uint64_t k = key(level, i, j);
+    auto it = deep_vals_.find(k);
+    if (it == deep_vals_.end()) it = deep_vals_.emplace(k, exact(level, i, j)).first;
+    return it->second;
+  }
+  param::Metric2 exact(int level, double i, double j) const {
+    const double cells = static_cast<double>(n_ << level);
+    return field_.metric_uv(box_.u.at(i / cells), box_.v.at(j / cells));
+  }
+  param::Metric2 bilinear(int level, int i, int j, double tu, double tv) {
+    const param::Metric2 &a = node(level, i, j), &b = node(level, i + 1, j), &c = node(level, i, j + 1),
+                         &d = node(level, i + 1, j + 1);
+    const double w00 = (1 - tu) * (1 - tv), w10 = tu * (1 - tv), w01 = (1 - tu) * tv, w11 = tu * tv;
+    param::Metric2 m = a;
+    for (int r = 0; r < 2; ++r)
+      for (int k = r; k < 2; ++k) {
+        m.m[r][k] = w00 * a(r, k) + w10 * b(r, k) + w01 * c(r, k) + w11 * d(r, k);
+        m.m[k][r] = m.m[r][k];
+      }
+    return m;
+  }
+  // The interpolated metric at the cell's centre against the exact one, along the two
+  // axes and the two diagonals of the cell.
+  bool split_needed(int level, int i, int j) {
+    if (level >= kMaxDepth) return false;
+    // Cells on a singular side (a pole: a cone's apex, a sphere's) stay as they are: J
+    // is singular there by construction and the mesher's pole handling expects the
+    // smoothed field (splitting them made a fold at occt_cone_catia's apex).
+    const int cells = n_ << level;
+    if (((singular_ & geom::kSideUMin) && i == 0) || ((singular_ & geom::kSideUMax) && i == cells - 1) ||
+        ((singular_ & geom::kSideVMin) && j == 0) || ((singular_ & geom::kSideVMax) && j == cells - 1))
+      return false;
+    const param::Metric2 mi = bilinear(level, i, j, 0.5, 0.5);
+    const param::Metric2 me = exact(level, i + 0.5, j + 0.5);
+    const double du = box_.u.length(), dv = box_.v.length();
+    const double dirs[4][2] = {{du, 0}, {0, dv}, {du, dv}, {du, -dv}};
+    for (const auto& d : dirs) {
+      const double li = mi(0, 0) * d[0] * d[0] + 2 * mi(0, 1) * d[0] * d[1] + mi(1, 1) * d[1] * d[1];
+      const double le = me(0, 0) * d[0] * d[0] + 2 * me(0, 1) * d[0] * d[1] + me(1, 1) * d[1] * d[1];
+      if (!(le > 0) || !(li > 0)) continue;  // a degenerate point: nothing to compare
+      const double r = li / le;                // squared ratio of lengths
+      if (r > kTol * kTol || r < 1 / (kTol * kTol)) return true;
+    }
+    return false;
   }
   const param::FaceSizeField& field_;
   geom::Box2 box_;
+  unsigned singular_;  ///< geom::SideBits of the surface's poles
   int n_;
   std::vector<param::Metric2> vals_;
   std::vector<char> has_;
+  std::vector<std::int8_t> state_;
+  std::unordered_map<std::uint64_t, std::int8_t> deep_state_;
+  std::unordered_map<std::uint64_t, param::Metric2> deep_vals_;
 };
 
 std::string fmt_uv(const geom::Vec2& p) {
@@ -332,7 +415,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     }
 
   // ---- mesher2d under M_uv = J^T M3 J (the field interpolates M3 on a background grid).
-  UvMetricGrid grid(field, f.uv_box);
+  UvMetricGrid grid(field, f.uv_box, s.singular_sides());
   // mesher2d starts from the Delaunay triangulation of the boundary in its own
   // coordinates and refines under the metric from there (§7.6.1). Where the (u,v) metric
   // is strongly anisotropic as a whole -- an angle parameter times a radius against a

@@ -70,6 +70,7 @@ class BoundaryCaps {
     std::vector<double> h;      ///< size at each node: the shorter adjacent segment
     geom::Vec3 lo{0.0}, hi{0.0};
     double hmin = 0.0;
+    double tol = 0.0;  ///< the CAD edge's tolerance (largest of the edge's and its vertices')
     /// Runs of kChunk segments with their boxes and smallest node size, so that a query
     /// skips the far parts of a long edge (a slender face has two edges of 10^4 nodes
     /// side by side).

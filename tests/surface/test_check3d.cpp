@@ -691,6 +691,32 @@ TEST_CASE("check3d: quality: slivers across a gap narrower than the proximity fl
   CHECK(r.bad_list[1].triangle == 2);
 }
 
+TEST_CASE("check3d: quality: slivers across a gap within the two edges' CAD tolerances",
+          "[check3d][quality]") {
+  // Two slivers of width 0.05, all points on model edges. The first spans edges 0 and 1,
+  // whose floors (0.03 + 0.03) exceed its width: a gap the CAD model does not resolve. The
+  // second has all three points on edge 2 alone: no gap between two edges, counted bad
+  // whatever edge 2's floor. Widths are reported.
+  auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.05, 0},
+                      {5, 0, 0}, {6, 0, 0}, {5.5, 0.05, 0}},
+                     {{0, 1, 2}, {3, 4, 5}});
+  for (auto& d : m.point_dim) d = 1;
+  m.point_entity = {0, 0, 1, 2, 2, 2};
+  const std::vector<double> floors{0.03, 0.03, 1.0};
+  const auto r = surface::measure_quality(m, 100, 0.001, &floors);
+  CHECK(r.bad_in_narrow_gaps == 1);
+  CHECK(r.widest_narrow_gap == Approx(0.05));
+  CHECK(r.bad_away_from_corners == 1);
+  REQUIRE(r.bad_list.size() == 1);
+  CHECK(r.bad_list[0].triangle == 1);
+  // Floors that sum below the width: nothing excused.
+  const std::vector<double> tight{0.02, 0.02, 1.0};
+  const auto t = surface::measure_quality(m, 100, 0.001, &tight);
+  CHECK(t.bad_in_narrow_gaps == 0);
+  CHECK(t.widest_narrow_gap == 0.0);
+  CHECK(t.bad_away_from_corners == 2);
+}
+
 TEST_CASE("check3d: edge lengths: unit share and histogram", "[check3d][edges]") {
   auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}});
   auto len = [&](double s) {

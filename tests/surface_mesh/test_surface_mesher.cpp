@@ -58,10 +58,12 @@ void accept(const std::string& file, bool closed, const surface::MeshOptions* op
   for (const auto& p : si.pairs) UNSCOPED_INFO("triangles " << p.t0 << " (face " << p.f0 << ") x " << p.t1 << " (face " << p.f1 << ")");
   CHECK(si.intersecting_pairs == 0);
 
-  // Bad triangles across gaps of the CAD face narrower than the proximity floor are the
-  // report's exceptions (QualityReport::bad_in_narrow_gaps), as uvmesh mesh --report counts.
+  // Bad triangles across gaps of the CAD face narrower than the proximity floor, or than
+  // the two edges' CAD tolerances, are the report's exceptions
+  // (QualityReport::bad_in_narrow_gaps), as uvmesh mesh --report counts.
+  const std::vector<double> edge_gap = surface::edge_gap_floors(m);
   const surface::QualityReport q =
-      surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()));
+      surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
   CHECK(q.share_Q_lt_1_5 >= 0.95);
   for (const auto& b : q.bad_list) UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
   CHECK(q.bad_away_from_corners == 0);
@@ -196,6 +198,23 @@ TEST_CASE("surface mesher: a sub-hmin edge next to a coarse one grades through t
   accept(data("cad/gmsh_block.stp"), true);
 }
 
+TEST_CASE("surface mesher: no proximity refinement inside the CAD tolerances (gmsh_crankshaft)", "[surface]") {
+  // Edges whose pcurves end 0.009 mm from their 3D vertex (hmin 0.013 mm) were refined by
+  // proximity to 0.0002 mm segments there; the surface's image of those nodes and the
+  // curve's own nodes made needles of Q up to 58 (23 triangles of Q >= 3 away from
+  // vertices). Gaps below twice the edges' tolerances no longer refine, and the slivers
+  // across them are the report's narrow-gap exceptions.
+  accept(data("cad/gmsh_crankshaft.stp"), true);
+}
+
+TEST_CASE("surface mesher: a (u,v) metric varying inside one grid cell (occt_terrain)", "[surface]") {
+  // One B-spline face whose (u,v) speed varies within a cell of the 64 x 64 metric grid:
+  // interpolated, the metric gave 82% unit edges and 1.8x the chordal tolerance. The grid
+  // now splits cells where it disagrees with the exact metric, and the chordal repair may
+  // take up to 8 rounds.
+  accept(data("cad/occt_terrain.brep"), false);
+}
+
 TEST_CASE("surface mesher: caps wedged between sub-hmin features are collapsed (occt_crankarm)", "[surface]") {
   // Two caps of Q 3.2 next to a corner, on a boundary split below hmin by proximity: no
   // position of their free vertex helped, merging it into a neighbour does (improve3d's
@@ -212,8 +231,9 @@ TEST_CASE("surface mesher: a needle between interior points next to a corner is 
   const surface::MeshOptions o = defaults(m);
   const surface::MeshResult r = surface::mesh_model(m, o);
   REQUIRE(r.failed.empty());
+  const std::vector<double> edge_gap = surface::edge_gap_floors(m);
   const surface::QualityReport q =
-      surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()));
+      surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
   for (const auto& b : q.bad_list) UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
   CHECK(q.bad_away_from_corners == 0);
   CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);

@@ -167,8 +167,15 @@ struct QualityReport {
   /// over the longest side) below the floor. The face itself is narrower there than any
   /// element the sizes allow -- in practice the last micrometres before two model edges
   /// meet tangentially at a vertex -- so the triangles across it cannot be well shaped.
+  /// With edge_gap given, a gap between two model edges narrower than the pair's
+  /// tolerance floor (kGapToleranceFactor times the sum of their gap_tolerance()s, the
+  /// floor below which the mesher's proximity sees no gap) counts too: the CAD model
+  /// does not resolve it.
   /// Counted here and NOT in bad_away_from_corners; 0 unless narrow_gap > 0.
   std::size_t bad_in_narrow_gaps = 0;
+  /// The widest of those gaps (largest width of a triangle counted there; 0 if none), so
+  /// that a reader sees how much the exception excuses.
+  double widest_narrow_gap = 0.0;
   /// The bad triangles away from corners, worst first (ties by id), capped at max_list.
   std::vector<BadTriangle> bad_list;
 };
@@ -178,7 +185,11 @@ double triangle_Q(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c)
 
 /// narrow_gap > 0: bad triangles in faces narrower than that are counted apart
 /// (QualityReport::bad_in_narrow_gaps); surface::proximity_floor gives the mesher's own.
-QualityReport measure_quality(const SurfaceMesh& m, int max_list = 100, double narrow_gap = 0.0);
+/// edge_gap (optional, indexed by model edge id): each edge's share of the tolerance
+/// floor, kGapToleranceFactor * gap_tolerance(edge); a triangle whose points lie on two
+/// edges a and b uses max(narrow_gap, edge_gap[a] + edge_gap[b]).
+QualityReport measure_quality(const SurfaceMesh& m, int max_list = 100, double narrow_gap = 0.0,
+                              const std::vector<double>* edge_gap = nullptr);
 
 // ---------------------------------------------------------------------------------------
 // 4. Metric edge lengths (unit mesh: length in [1/sqrt2, sqrt2])

@@ -42,7 +42,7 @@ struct MeshOptions {
   /// than 0.9 chordal tolerance from the curve are split (1D stage), and so are the
   /// triangles whose centroid deviates that much from the surface (after the 3D
   /// improvement).
-  int chordal_repair_rounds = 3;
+  int chordal_repair_rounds = 8;
   int min_segments_closed_edge = 3;
   /// Rounds of size caps on the edges from the other edges of their faces (gradation
   /// across a face and proximity of another part of its boundary); 0 = off.
@@ -65,6 +65,19 @@ param::SizeSpec default_size(const geom::Model& m);
 /// narrower than that -- a CAD sliver, the last micrometres of a tangential contact --
 /// gets elements as long as the floor across a narrower width.
 double proximity_floor(const param::SizeSpec& spec, double diagonal);
+
+/// How far apart two model edges of a face must be for proximity to see a gap between
+/// them: kGapToleranceFactor times the sum of their gap_tolerance()s. Closer than that,
+/// the CAD model itself does not know on which side of the other either curve lies:
+/// OCC's tolerances say a curve may be anywhere within its tolerance of where it is
+/// drawn. Refining such a "gap" meshed the model's noise (gmsh_crankshaft: pcurves ending
+/// 0.009 mm from their 3D vertex, edges graded down to 0.0002 mm segments there, and
+/// needles of Q 58 between the curve's nodes and the surface's image of the pcurve).
+inline constexpr double kGapToleranceFactor = 2.0;
+/// An edge's tolerance for that purpose: the largest of its own and its end vertices'.
+double gap_tolerance(const geom::Model& m, geom::Id edge);
+/// kGapToleranceFactor * gap_tolerance(e) for every edge e: measure_quality's edge_gap.
+std::vector<double> edge_gap_floors(const geom::Model& m);
 
 struct FaceFailure {
   geom::Id face = geom::kNone;
