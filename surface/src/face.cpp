@@ -463,6 +463,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   // edges but must not collapse short ones.
   o.collapse_short_edges = false;
   o.time_limit = opt.face_time_limit;
+  o.measure = false;  // the face's quality is measured in 3D below, not in the (u,v) metric
   const m2d::Result r = m2d::mesh(in, size, o);
   if (!r.ok()) {
     std::string msg = r.status.message;
@@ -555,7 +556,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       const int n = chordal_split_round(lm, s, f.uv_box, 0.9 * opt.size.chordal_tol);
       out.stats.chordal_splits += n;
       if (n == 0) break;
-      if (opt.optimize3d) improve3d(lm, s, 2);
+      if (opt.optimize3d) improve3d(lm, s, 2, /*collapse=*/false);
     }
 
   const std::size_t nvf = lm.uv.size();  // with the points of the chordal repair

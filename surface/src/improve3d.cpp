@@ -302,7 +302,7 @@ struct Improver {
 
 }  // namespace
 
-std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes) {
+std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes, bool collapse) {
   Improver im{lm, s, {}};
   im.build_adjacency();
   int swaps = 0, moves = 0;
@@ -318,7 +318,7 @@ std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes) 
     for (std::size_t t = 0; t < lm.tris.size(); ++t)
       for (int k : lm.tris[t]) ring[static_cast<std::size_t>(k)].push_back(static_cast<std::int32_t>(t));
     const int mv = im.smooth_pass(ring);
-    const int cl = im.collapse_pass(ring);
+    const int cl = collapse ? im.collapse_pass(ring) : 0;
     if (cl > 0) {
       im.compact();
       im.build_adjacency();

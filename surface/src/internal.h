@@ -115,7 +115,9 @@ struct LocalMesh {
 
 /// Stage 2b: swaps and smoothing judged by 3D quality, moving vertices in (u,v) so they
 /// stay on the surface. Returns {swaps, moves}.
-std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes);
+/// collapse = false: swaps and smoothing only (after the chordal repair, whose added
+/// points a collapse would take away again).
+std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes, bool collapse = true);
 
 /// Q_K = alpha h_max / rho (eq. 7.6) of a 3D triangle, as 1/Q in [0, 1] (0: flat).
 double q3(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c);
