@@ -202,9 +202,16 @@ TEST_CASE("surface mesher: no proximity refinement inside the CAD tolerances (gm
   // Edges whose pcurves end 0.009 mm from their 3D vertex (hmin 0.013 mm) were refined by
   // proximity to 0.0002 mm segments there; the surface's image of those nodes and the
   // curve's own nodes made needles of Q up to 58 (23 triangles of Q >= 3 away from
-  // vertices). Gaps below twice the edges' tolerances no longer refine, and the slivers
+  // vertices). Gaps below the sum of the edges' tolerances no longer refine; the slivers
   // across them are the report's narrow-gap exceptions.
   accept(data("cad/gmsh_crankshaft.stp"), true);
+}
+
+TEST_CASE("surface mesher: a face narrower than hmin but wider than its tolerances is resolved (gmsh_slender_surface)",
+          "[surface]") {
+  // Width 0.00038 against hmin 0.0099: with the tolerance floor at twice the sum of the
+  // edges' tolerances, proximity saw no gap and the face got 121 slivers (Q<1.5: 1.7%).
+  accept(data("cad/gmsh_slender_surface.brep"), false);
 }
 
 TEST_CASE("surface mesher: a (u,v) metric varying inside one grid cell (occt_terrain)", "[surface]") {

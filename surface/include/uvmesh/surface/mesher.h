@@ -67,13 +67,13 @@ param::SizeSpec default_size(const geom::Model& m);
 double proximity_floor(const param::SizeSpec& spec, double diagonal);
 
 /// How far apart two model edges of a face must be for proximity to see a gap between
-/// them: kGapToleranceFactor times the sum of their gap_tolerance()s. Closer than that,
+/// them: kGapToleranceFactor (1: the two tolerance tubes touch) times the sum of their gap_tolerance()s. Closer than that,
 /// the CAD model itself does not know on which side of the other either curve lies:
 /// OCC's tolerances say a curve may be anywhere within its tolerance of where it is
 /// drawn. Refining such a "gap" meshed the model's noise (gmsh_crankshaft: pcurves ending
 /// 0.009 mm from their 3D vertex, edges graded down to 0.0002 mm segments there, and
 /// needles of Q 58 between the curve's nodes and the surface's image of the pcurve).
-inline constexpr double kGapToleranceFactor = 2.0;
+inline constexpr double kGapToleranceFactor = 1.0;
 /// An edge's tolerance for that purpose: the largest of its own and its end vertices'.
 double gap_tolerance(const geom::Model& m, geom::Id edge);
 /// kGapToleranceFactor * gap_tolerance(e) for every edge e: measure_quality's edge_gap.
