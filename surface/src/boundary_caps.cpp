@@ -170,9 +170,10 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
           // degrees, where the sizes then shrink towards the corner.
           const geom::Vec3 v = closest_on_segment(x, P.p[i], P.p[i + 1]) - x;
           const double d = glm::length(v);
-          // A gap below the floor (a face narrower than hmin / 100: a CAD defect rather
-          // than a feature) cannot be resolved within the floor; refining along it would
-          // only multiply the slivers across it, so it is left to the other caps.
+          // A gap below the floor (a face narrower than hmin / 100, or than the two
+          // edges' CAD tolerances: a defect rather than a feature) cannot be resolved;
+          // refining along it would only multiply the slivers across it, so it is left
+          // to the other caps.
           if (d >= prox || d < gap_floor) continue;
           if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
           prox = std::min(prox, d);
