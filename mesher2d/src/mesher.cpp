@@ -589,7 +589,12 @@ class Mesher {
     }
     const std::size_t nout = nv - dh.dups.size();
     M.vertex_markers.assign(nout, 0);
-    M.input_vertex.resize(n);
+    // Without duplicates input point i is vertex vert_of[i] as it is (the kernel's
+    // inverse of its insertion order, made while it gathered the points).
+    if (compact)
+      M.input_vertex.resize(n);
+    else
+      M.input_vertex = std::move(dh.vert_of);
     // The marker of a merged vertex is that of its first input point (as in
     // merge_duplicates): msrc = the smallest input index among equal points.
     std::vector<std::int32_t> msrc;
@@ -605,7 +610,7 @@ class Mesher {
         out[v] = w;
         M.vertices[w] = dh.pts[v];
       }
-      M.input_vertex[dh.src[v]] = w;
+      if (compact) M.input_vertex[dh.src[v]] = w;
       if (!in_.point_markers.empty()) M.vertex_markers[w] = in_.point_markers[compact ? msrc[v] : dh.src[v]];
       ++w;
     }
@@ -1007,25 +1012,28 @@ class Mesher {
       z ^= z >> 31;
       return (static_cast<double>(z >> 11) * 0x1.0p-53 - 0.5) * 2e-6;
     };
-    std::vector<Vec2> lat;
-    lat.reserve(static_cast<std::size_t>(nx * ny));
-    for (std::int64_t j = 0; j < ny; ++j) {
-      const double y = ymin + (static_cast<double>(j) + 0.5) * dy;
-      for (std::int64_t i = 0; i < nx; ++i) {
-        const auto k = static_cast<std::uint64_t>(j * nx + i);
-        lat.push_back({xmin + (static_cast<double>(i) + ((j & 1) ? 0.5 : 0.0) + jitter(2 * k)) * h,
-                       y + jitter(2 * k + 1) * h});
-      }
-    }
+    // Lattice point k = j nx + i. Made again from k when it is inserted rather than read
+    // back from the array the order was computed on: in insertion order that read was a
+    // cache miss per point, 6% of the whole uniform-field mesher's time at 1e6 triangles.
+    auto lattice_point = [&](std::int64_t k) {
+      const std::int64_t j = k / nx, i = k - j * nx;
+      const auto u = static_cast<std::uint64_t>(k);
+      return Vec2{xmin + (static_cast<double>(i) + ((j & 1) ? 0.5 : 0.0) + jitter(2 * u)) * h,
+                  ymin + (static_cast<double>(j) + 0.5) * dy + jitter(2 * u + 1) * h};
+    };
     std::vector<std::uint64_t> order;
-    detail::brio_order(lat, order);
+    {
+      std::vector<Vec2> lat(static_cast<std::size_t>(nx * ny));
+      for (std::int64_t k = 0; k < nx * ny; ++k) lat[static_cast<std::size_t>(k)] = lattice_point(k);
+      detail::brio_order(lat, order);
+    }
     std::size_t since_check = 0;
     for (const std::uint64_t rec : order) {
       if (++since_check == 4096) {
         since_check = 0;
         if (over_time("refinement")) return;
       }
-      try_insert(lat[rec & 0xFFFFFFFFu], hint);
+      try_insert(lattice_point(static_cast<std::int64_t>(rec & 0xFFFFFFFFu)), hint);
     }
     res_.stats.field_points_inserted += inserted;
     lattice_used_ = true;

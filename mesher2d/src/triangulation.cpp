@@ -121,11 +121,10 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
   return kNone;
 }
 
-bool Triangulation::in_cavity(TriId t, Vec2 p, const InsertParams& prm) const {
+bool Triangulation::in_cavity_metric(TriId t, Vec2 p, const InsertParams& prm) const {
   const Vec2& a = pts[tv[3 * t]];
   const Vec2& b = pts[tv[3 * t + 1]];
   const Vec2& c = pts[tv[3 * t + 2]];
-  if (!prm.use_metric) return pred::detail::incircle_filtered(&a.x, &b.x, &c.x, &p.x) > 0;
   // eq. 7.15-7.16 with M approached by M(P): in coordinates where M(P) is the identity
   // (x -> R x with M = R^T R, R upper triangular with a positive diagonal, so orientation is
   // kept) the metric circumcircle of K is the Euclidean one, and alpha_M(P)(P,K) < 1 is an
@@ -170,6 +169,7 @@ InsertResult Triangulation::insert_point_located(Vec2 p, TriId t0, const double*
 
 InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0, const InsertParams& prm) {
   const Vec2 p = pts[v];
+  if (o0[0] != 0 && o0[1] != 0 && o0[2] != 0 && cavity_unmarked(t0, p, prm)) return make_ball(v, t0, prm);
   if (mark_.size() < static_cast<std::size_t>(num_tris()) + 8) mark_.resize(2 * num_tris() + 8, 0);
   if (epoch_ > 0xFFFFFFF0u) {
     std::fill(mark_.begin(), mark_.end(), 0);
@@ -218,17 +218,7 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
       const TriId n = h / 3;
       const std::uint32_t mk = mark[n];
       if (mk == IN) continue;
-      bool in = false;
-      if (mk != OUT) {
-        if (prm.use_metric) {
-          in = in_cavity(n, p, prm);
-        } else {
-          const Vec2& ka = P[TV[3 * n]];
-          const Vec2& kb = P[TV[3 * n + 1]];
-          const Vec2& kc = P[TV[3 * n + 2]];
-          in = pred::detail::incircle_filtered(&ka.x, &kb.x, &kc.x, &p.x) > 0;
-        }
-      }
+      const bool in = mk != OUT && in_cavity(n, p, prm);
       if (in) {
         mark[n] = IN;
         cav_.push_back(n);
@@ -265,6 +255,64 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
     if (!bad) break;
     if (attempt > 0 || !star_correct(p, nbase, IN, OUT, CAND)) return {InsertStatus::BadCavity, kNone};
   }
+  return make_ball(v, t0, prm);
+}
+
+// Cavity of a point strictly inside t0 (§7.3.2 steps 2-3) without the marks of the
+// general path: breadth first from t0 in the same order as insert_located's, a
+// neighbour reached through the edge a triangle was entered by being its parent. When the
+// cavity is a disk whose triangles' dual is a tree (every valid cavity: a disk with all
+// its vertices on the boundary) this collects the same cavity and the same boundary
+// half-edges in the same order, and checks that every boundary edge sees P strictly on
+// its left (star shape). A cycle among conflicting triangles (a vertex inside, or a
+// region around an obstacle) makes the walk revisit triangles forever, stopped by the
+// size cap; that, a boundary edge not seeing P, or a larger cavity returns false and the
+// general path decides (with marks, star-shape correction and its counts). Reading and
+// writing the per-triangle marks (a word per triangle, away from the triangle's own data)
+// was a cache miss per tested neighbour.
+bool Triangulation::cavity_unmarked(TriId t0, Vec2 p, const InsertParams& prm) {
+  constexpr std::size_t kMaxCavity = 96;
+  const VertId* const TV = tv.data();
+  const std::int32_t* const OPP = opp.data();
+  const std::int32_t* const SEG = seg.data();
+  const Vec2* const P = pts.data();
+  cav_.clear();
+  par_.clear();
+  bnd_.clear();
+  bd_.clear();
+  cav_.push_back(t0);
+  par_.push_back(kNone);
+  for (std::size_t k = 0; k < cav_.size(); ++k) {
+    const TriId t = cav_[k];
+    const std::int32_t entry = par_[k];
+    for (int i = 0; i < 3; ++i) {
+      const std::int32_t h = 3 * t + i;
+      if (h == entry) continue;
+      const std::int32_t g = OPP[h];
+      if (g != kNone && SEG[h] == kNone) {
+        const TriId n = g / 3;
+        if (in_cavity(n, p, prm)) {
+          if (cav_.size() >= kMaxCavity) return false;
+          cav_.push_back(n);
+          par_.push_back(g);
+          continue;
+        }
+      }
+      const VertId a = TV[3 * t + next3(i)], b = TV[3 * t + prev3(i)];
+      if (pred::detail::orient2d_filtered(&P[a].x, &P[b].x, &p.x) <= 0) return false;
+      bnd_.push_back(h);
+      bd_.push_back({a, b, g, SEG[h]});
+    }
+  }
+  return true;
+}
+
+// The rest of an insertion once the cavity (cav_), its boundary half-edges (bnd_) and
+// boundary edges (bd_) are known and the cavity is star-shaped.
+InsertResult Triangulation::make_ball(VertId v, TriId t0, const InsertParams& prm) {
+  const Vec2* const P = pts.data();
+  const Vec2 p = P[v];
+  auto& bd = bd_;
   // A star-shaped topological disk with m boundary edges holds m - 2 triangles; more
   // means a vertex strictly inside the cavity, which the ball would lose.
   if (bnd_.size() != cav_.size() + 2) {

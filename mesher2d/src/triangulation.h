@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "predicates_filter.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 
 namespace uvmesh::m2d::detail {
@@ -158,7 +159,18 @@ class Triangulation {
   std::int64_t star_corrections = 0;
 
  private:
-  bool in_cavity(TriId t, Vec2 p, const InsertParams& prm) const;
+  // The cavity criterion for triangle t (inline: the isotropic test is the kernel's
+  // innermost operation).
+  bool in_cavity(TriId t, Vec2 p, const InsertParams& prm) const {
+    if (prm.use_metric) return in_cavity_metric(t, p, prm);
+    const Vec2& a = pts[tv[3 * t]];
+    const Vec2& b = pts[tv[3 * t + 1]];
+    const Vec2& c = pts[tv[3 * t + 2]];
+    return pred::detail::incircle_filtered(&a.x, &b.x, &c.x, &p.x) > 0;
+  }
+  bool in_cavity_metric(TriId t, Vec2 p, const InsertParams& prm) const;
+  bool cavity_unmarked(TriId t0, Vec2 p, const InsertParams& prm);
+  InsertResult make_ball(VertId v, TriId t0, const InsertParams& prm);
   void link(std::int32_t h1, std::int32_t h2) {
     opp[h1] = h2;
     if (h2 != kNone) opp[h2] = h1;
@@ -171,6 +183,7 @@ class Triangulation {
   mutable std::uint32_t epoch_ = 0;
   std::vector<TriId> cav_, stack_, free_;
   std::vector<std::int32_t> bnd_;     // boundary half-edges of the cavity (inside side)
+  std::vector<std::int32_t> par_;     // cavity_unmarked: the half-edge cav_[k] was entered by
   std::vector<std::int32_t> vstart_;  // vertex -> index in bnd_ of the edge starting there
   struct BoundaryEdge {
     VertId a, b;
@@ -225,6 +238,7 @@ class HullDelaunay {
   VertId ghost_id = 0;            // G: the vertex after the last input point
   std::vector<Vec2> pts;          // vertex -> point (pts[ghost_id]: G, NaN coordinates)
   std::vector<std::int32_t> src;  // vertex -> input point index
+  std::vector<VertId> vert_of;    // input point index -> vertex (src's inverse)
   std::vector<std::pair<VertId, VertId>> dups;  // (unused vertex, the equal vertex kept)
   std::vector<Tri> tris;          // real and ghost triangles, all live
   static constexpr std::size_t kMaxPoints = (std::size_t{1} << 28) - 16;
