@@ -79,32 +79,51 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
     if (t == kNone) return kNone;
   }
   // Stochastic visibility walk: it terminates with probability one in any triangulation,
-  // Delaunay or not (constrained, or after swaps); the cap is a guard against bugs.
+  // Delaunay or not (constrained, or after swaps); the cap is a guard against bugs. The
+  // edge a step entered by is not tested again: p is strictly on its inner side (the
+  // exact orientation is antisymmetric, and it was negative from the other side), so
+  // its orientation is reported as 1; of the other two, a random one first.
   const std::int64_t cap = 4 * static_cast<std::int64_t>(num_tris()) + 64;
+  const VertId* const TV = tv.data();
+  const Vec2* const P = pts.data();
+  auto side = [&](TriId s, int i) { return orient(P[TV[3 * s + next3(i)]], P[TV[3 * s + prev3(i)]], p); };
+  int entered = -1;
   for (std::int64_t step = 0; step < cap; ++step) {
     rng_ ^= rng_ << 13;
     rng_ ^= rng_ >> 7;
     rng_ ^= rng_ << 17;
-    const int r = static_cast<int>(rng_ % 3);
-    bool moved = false;
+    int cross = -1;
     double o[3];
-    for (int k = 0; k < 3; ++k) {
-      const int i = (r + k) % 3;
-      const Vec2& a = pts[tv[3 * t + next3(i)]];
-      const Vec2& b = pts[tv[3 * t + prev3(i)]];
-      o[i] = orient(a, b, p);
-      if (o[i] < 0) {
-        const std::int32_t h = opp[3 * t + i];
-        if (h == kNone) return kNone;  // outside the box
-        t = h / 3;
-        moved = true;
-        break;
+    if (entered < 0) {
+      const int r = static_cast<int>(rng_ % 3);
+      for (int k = 0; k < 3; ++k) {
+        const int i = (r + k) % 3;
+        o[i] = side(t, i);
+        if (o[i] < 0) {
+          cross = i;
+          break;
+        }
+      }
+    } else {
+      o[entered] = 1;
+      const bool swap = (rng_ >> 17) & 1;
+      const int i1 = swap ? prev3(entered) : next3(entered), i2 = swap ? next3(entered) : prev3(entered);
+      o[i1] = side(t, i1);
+      if (o[i1] < 0) {
+        cross = i1;
+      } else {
+        o[i2] = side(t, i2);
+        if (o[i2] < 0) cross = i2;
       }
     }
-    if (!moved) {
+    if (cross < 0) {
       if (orients) orients[0] = o[0], orients[1] = o[1], orients[2] = o[2];
       return t;
     }
+    const std::int32_t h = opp[3 * t + cross];
+    if (h == kNone) return kNone;  // outside the box
+    t = h / 3;
+    entered = h - 3 * t;
   }
   // Fallback (never seen): exhaustive search.
   for (TriId s = 0; s < num_tris(); ++s) {
@@ -169,7 +188,8 @@ InsertResult Triangulation::insert_point_located(Vec2 p, TriId t0, const double*
 
 InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0, const InsertParams& prm) {
   const Vec2 p = pts[v];
-  if (o0[0] != 0 && o0[1] != 0 && o0[2] != 0 && cavity_unmarked(t0, p, prm)) return make_ball(v, t0, prm);
+  if (o0[0] != 0 && o0[1] != 0 && o0[2] != 0 && cavity_unmarked(t0, p, prm))
+    return make_ball(v, t0, prm, fcav_.data(), fnc_, fbd_.data(), fm_);
   if (mark_.size() < static_cast<std::size_t>(num_tris()) + 8) mark_.resize(2 * num_tris() + 8, 0);
   if (epoch_ > 0xFFFFFFF0u) {
     std::fill(mark_.begin(), mark_.end(), 0);
@@ -255,7 +275,7 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
     if (!bad) break;
     if (attempt > 0 || !star_correct(p, nbase, IN, OUT, CAND)) return {InsertStatus::BadCavity, kNone};
   }
-  return make_ball(v, t0, prm);
+  return make_ball(v, t0, prm, cav_.data(), cav_.size(), bd.data(), bnd_.size());
 }
 
 // Cavity of a point strictly inside t0 (§7.3.2 steps 2-3) without the marks of the
@@ -271,20 +291,19 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
 // writing the per-triangle marks (a word per triangle, away from the triangle's own data)
 // was a cache miss per tested neighbour.
 bool Triangulation::cavity_unmarked(TriId t0, Vec2 p, const InsertParams& prm) {
-  constexpr std::size_t kMaxCavity = 96;
   const VertId* const TV = tv.data();
   const std::int32_t* const OPP = opp.data();
   const std::int32_t* const SEG = seg.data();
   const Vec2* const P = pts.data();
-  cav_.clear();
-  par_.clear();
-  bnd_.clear();
-  bd_.clear();
-  cav_.push_back(t0);
-  par_.push_back(kNone);
-  for (std::size_t k = 0; k < cav_.size(); ++k) {
-    const TriId t = cav_[k];
-    const std::int32_t entry = par_[k];
+  TriId* const cav = fcav_.data();
+  std::int32_t* const par = fpar_.data();
+  BoundaryEdge* const bd = fbd_.data();
+  std::size_t nc = 0, m = 0;
+  cav[nc] = t0;
+  par[nc++] = kNone;
+  for (std::size_t k = 0; k < nc; ++k) {
+    const TriId t = cav[k];
+    const std::int32_t entry = par[k];
     for (int i = 0; i < 3; ++i) {
       const std::int32_t h = 3 * t + i;
       if (h == entry) continue;
@@ -292,48 +311,47 @@ bool Triangulation::cavity_unmarked(TriId t0, Vec2 p, const InsertParams& prm) {
       if (g != kNone && SEG[h] == kNone) {
         const TriId n = g / 3;
         if (in_cavity(n, p, prm)) {
-          if (cav_.size() >= kMaxCavity) return false;
-          cav_.push_back(n);
-          par_.push_back(g);
+          if (nc >= kMaxFastCavity) return false;
+          cav[nc] = n;
+          par[nc++] = g;
           continue;
         }
       }
       const VertId a = TV[3 * t + next3(i)], b = TV[3 * t + prev3(i)];
       if (pred::detail::orient2d_filtered(&P[a].x, &P[b].x, &p.x) <= 0) return false;
-      bnd_.push_back(h);
-      bd_.push_back({a, b, g, SEG[h]});
+      bd[m++] = {a, b, g, SEG[h]};
     }
   }
+  fnc_ = nc;
+  fm_ = m;
   return true;
 }
 
-// The rest of an insertion once the cavity (cav_), its boundary half-edges (bnd_) and
-// boundary edges (bd_) are known and the cavity is star-shaped.
-InsertResult Triangulation::make_ball(VertId v, TriId t0, const InsertParams& prm) {
+// The rest of an insertion once the cavity (cav[0..nc)) and its boundary edges
+// (bd[0..m)) are known and the cavity is star-shaped.
+InsertResult Triangulation::make_ball(VertId v, TriId t0, const InsertParams& prm, const TriId* cav,
+                                      std::size_t nc, const BoundaryEdge* bd, std::size_t m) {
   const Vec2* const P = pts.data();
   const Vec2 p = P[v];
-  auto& bd = bd_;
   // A star-shaped topological disk with m boundary edges holds m - 2 triangles; more
   // means a vertex strictly inside the cavity, which the ball would lose.
-  if (bnd_.size() != cav_.size() + 2) {
+  if (m != nc + 2) {
     ++bad_cavities;
     return {InsertStatus::BadCavity, kNone};
   }
   if (prm.min_dist > 0)
-    for (const BoundaryEdge& e : bd)
-      if (filter_too_close(prm, e.a, P[e.a], p)) return {InsertStatus::TooClose, e.a};
+    for (std::size_t k = 0; k < m; ++k)
+      if (filter_too_close(prm, bd[k].a, P[bd[k].a], p)) return {InsertStatus::TooClose, bd[k].a};
 
   // Replace the cavity by the ball: one new triangle (a, b, P) per boundary edge (a, b).
   // The cavity's slots are reused, last first (the order in which a free list would hand
   // them back), and the two more (m = |cavity| + 2) come from the free list or the end of
   // the arrays.
   const std::int32_t the_tag = tag[t0];
-  const std::size_t m = bd.size();
   if (vstart_.size() < pts.size()) vstart_.resize(pts.size() + pts.size() / 2 + 16);
   auto& nt = nt_;
   nt.resize(m);
-  const std::size_t nc = cav_.size();
-  for (std::size_t k = 0; k < m; ++k) nt[k] = k < nc ? cav_[nc - 1 - k] : new_tri();
+  for (std::size_t k = 0; k < m; ++k) nt[k] = k < nc ? cav[nc - 1 - k] : new_tri();
   VertId* const TVw = tv.data();
   std::int32_t* const OPPw = opp.data();
   std::int32_t* const SEGw = seg.data();

@@ -20,6 +20,7 @@
 // inserted point falls in some triangle.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -169,8 +170,13 @@ class Triangulation {
     return pred::detail::incircle_filtered(&a.x, &b.x, &c.x, &p.x) > 0;
   }
   bool in_cavity_metric(TriId t, Vec2 p, const InsertParams& prm) const;
+  struct BoundaryEdge {
+    VertId a, b;
+    std::int32_t out, s;
+  };
   bool cavity_unmarked(TriId t0, Vec2 p, const InsertParams& prm);
-  InsertResult make_ball(VertId v, TriId t0, const InsertParams& prm);
+  InsertResult make_ball(VertId v, TriId t0, const InsertParams& prm, const TriId* cav, std::size_t nc,
+                         const BoundaryEdge* bd, std::size_t m);
   void link(std::int32_t h1, std::int32_t h2) {
     opp[h1] = h2;
     if (h2 != kNone) opp[h2] = h1;
@@ -183,12 +189,14 @@ class Triangulation {
   mutable std::uint32_t epoch_ = 0;
   std::vector<TriId> cav_, stack_, free_;
   std::vector<std::int32_t> bnd_;     // boundary half-edges of the cavity (inside side)
-  std::vector<std::int32_t> par_;     // cavity_unmarked: the half-edge cav_[k] was entered by
+  // cavity_unmarked's cavity, the half-edge each of its triangles was entered by, its
+  // boundary edges, and their counts.
+  static constexpr std::size_t kMaxFastCavity = 96;
+  std::array<TriId, kMaxFastCavity> fcav_;
+  std::array<std::int32_t, kMaxFastCavity> fpar_;
+  std::array<BoundaryEdge, kMaxFastCavity + 2> fbd_;
+  std::size_t fnc_ = 0, fm_ = 0;
   std::vector<std::int32_t> vstart_;  // vertex -> index in bnd_ of the edge starting there
-  struct BoundaryEdge {
-    VertId a, b;
-    std::int32_t out, s;
-  };
   std::vector<BoundaryEdge> bd_;
   std::vector<TriId> nt_;
   std::vector<VertId> nb_scratch_;  // collapse_edge
