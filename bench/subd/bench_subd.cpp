@@ -85,11 +85,12 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r, const std::map<g
     auto local = [&](int k, geom::Id f) {
       const geom::SubdPatch& p = r.patches[f];
       if (!p.polygon.empty()) {
-        // A whole n-gon patch: OpenSubdiv's sub-face coordinates -> its polygon domain.
+        // A whole n-gon patch: OpenSubdiv's sub-face coordinates -> its domain (the
+        // polygon, or its projection for patches at a high-valence vertex).
         const double c[2] = {uv[2 * k], uv[2 * k + 1]};
         double st[2];
         const int sub = param.ConvertCoordToNormalizedSubFace(c, st);
-        return geom::ngon_domain_point(p.polygon, p.centre, sub, {st[0], st[1]});
+        return geom::subd_patch_domain_point(p, sub, {st[0], st[1]});
       }
       return (geom::Vec2(uv[2 * k], uv[2 * k + 1]) - p.origin) / p.scale;
     };

@@ -37,8 +37,10 @@ struct BasePatch {
 // A patch: base-face coordinates = origin + scale * (u,v) of the patch.
 class SubdSurface final : public Surface {
  public:
-  SubdSurface(std::shared_ptr<const BasePatch> b, Vec2 origin, double scale)
-      : b_(std::move(b)), o_(origin), k_(scale), regular_(b_->s.IsRegular()) {}
+  // diff_everywhere: tangents differenced on the whole patch, not only in the corner
+  // squares (the sub-faces of n-gons, see eval()).
+  SubdSurface(std::shared_ptr<const BasePatch> b, Vec2 origin, double scale, bool diff_everywhere = false)
+      : b_(std::move(b)), o_(origin), k_(scale), regular_(b_->s.IsRegular()), diff_all_(diff_everywhere) {}
 
   SurfacePoint eval(double u, double v) const override {
     // Bfr evaluates inside the face's domain only (irregular patches look the point up
@@ -52,7 +54,7 @@ class SubdSurface final : public Surface {
     b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv, Duu, Duv, Dvv);
     auto vec = [](const double* a) { return Vec3(a[0], a[1], a[2]); };
     SurfacePoint e{vec(P), k_ * vec(Du), k_ * vec(Dv), k_ * k_ * vec(Duu), k_ * k_ * vec(Duv), k_ * k_ * vec(Dvv)};
-    if (!regular_ && (b_->triangle || near_corner(c))) {
+    if (!regular_ && (b_->triangle || diff_all_ || near_corner(c))) {
       // Irregular faces end, around extraordinary vertices, in Gregory patches whose
       // first derivatives from Bfr ignore the rational weights (off by ~0.3% of the
       // patch size against differences of the positions, measured on catmark_cube).
@@ -66,7 +68,10 @@ class SubdSurface final : public Surface {
       // Chebyshev distance 1/4 of a corner and agree with the differences to 6e-7 (their
       // own truncation) beyond it. So only there the four extra evaluations are paid
       // (they were ~15% of the CPU time of meshing catmark_pawn). Loop triangles keep
-      // them everywhere (not measured).
+      // them everywhere (not measured). The sub-faces of n-gons too: on catmark_pole64's
+      // triangles next to the valence-64 pole Bfr's tangents are off by 1.5% at
+      // Chebyshev distance 0.34 from the centre corner, where Newton projections on the
+      // surface then stalled (947 of 90k chordal samples).
       e.du = diff(c, e.p, {1.0, 0.0}, e.du);
       e.dv = diff(c, e.p, {0.0, 1.0}, e.dv);
     }
@@ -125,6 +130,7 @@ class SubdSurface final : public Surface {
   Vec2 o_;
   double k_;
   bool regular_;
+  bool diff_all_;
   unsigned sing_ = 0u;
 };
 
@@ -236,6 +242,191 @@ class CurveOnPatch final : public Curve {
   std::shared_ptr<const Curve2> pc_;
 };
 
+// A patch at a high-valence vertex re-parameterized by the projection of its limit
+// surface on its plane: sigma(w) = inner(z) where P(inner(z)) = w, P the orthogonal
+// projection on the plane (SubdPlane), found by Newton's method.
+//
+// Why (catmark_pole64, bench/subd/results.md): OpenSubdiv's parameterization of a face at
+// an extraordinary vertex of valence n squeezes the face's 90-degree (sub-face) corner
+// into the 360/n-degree corner of the limit surface, and not uniformly: along a line
+// s + t = c of a sub-face at the valence-64 pole the 3D spacing of equal steps is 0.0070
+// at the sides and 0.0011 in the middle. The induced metric M_uv = J^T M3 J (DESIGN.md)
+// then varies 6x across one element, and mesher2d, which measures an edge by
+// integrating M_uv along its straight (u,v) segment (chapter eq. 7.10), measures the
+// length of a curve that bends toward the pole (1.8 units for a 3D chord of 0.2) and
+// splits every edge across the thin strips next to the pole. In the projected domain
+// the distance in (u,v) is the distance of the projected points: where the patch is
+// nearly flat over its plane (a thin face around a pole is), (u,v) distances are 3D
+// distances up to the slope, and M_uv is smooth.
+//
+// The patch's boundary is the projection of its limit boundary curves (ProjectedCurve2);
+// used only when the projection is one-to-one on the patch (checked on samples at
+// construction, see make_projected).
+class ProjectedSurface final : public Surface {
+ public:
+  // sub: OpenSubdiv's sub-faces of the n-gon, k = 0..n-1 CCW (sub-face k's side s = 1
+  // is sub-face k+1's side t = 1: the spoke from side point k to the centre), each on
+  // its unit square. Samples (k, st) covering them start the Newton iterations.
+  ProjectedSurface(std::vector<std::shared_ptr<const SubdSurface>> sub, const SubdPlane& pl,
+                   const std::vector<std::pair<int, Vec2>>& samples, Box2 box)
+      : sub_(std::move(sub)), pl_(pl), box_(box) {
+    for (const auto& [k, z] : samples) {
+      const SurfacePoint e = sub_[static_cast<std::size_t>(k)]->eval(z.x, z.y);
+      const Vec2 a0 = pl_.dir(e.du), a1 = pl_.dir(e.dv);
+      const double det = a0.x * a1.y - a0.y * a1.x;
+      samples_.push_back({k, z, pl_.map(e.p), Vec2(a1.y, -a0.y) / det, Vec2(-a1.x, a0.x) / det, to_w(e)});
+    }
+  }
+
+  SurfacePoint eval(double u, double v) const override {
+    bool far = false;
+    const SurfacePoint e = solve({u, v}, far);
+    return far ? e : to_w(e);
+  }
+  Vec3 point(double u, double v) const override {
+    bool far = false;
+    return solve({u, v}, far).p;
+  }
+  Box2 bounds() const override { return box_; }
+  SurfaceKind kind() const override { return SurfaceKind::Other; }
+  const SubdPlane& plane() const { return pl_; }
+
+ private:
+  // Derivatives in sub-face coordinates -> in w by the chain rule through z(w):
+  // Dz/Dw = A^-1 with A = P [sigma_s sigma_t]; differentiating P(sigma(z(w))) = w twice
+  // gives z_ab = -A^-1 P(D2 sigma[z_a, z_b]).
+  SurfacePoint to_w(const SurfacePoint& e) const {
+    const Vec2 a0 = pl_.dir(e.du), a1 = pl_.dir(e.dv);
+    const double det = a0.x * a1.y - a0.y * a1.x;
+    const Vec2 zu(a1.y / det, -a0.y / det), zv(-a1.x / det, a0.x / det);  // columns of A^-1
+    auto second = [&](const Vec2& p, const Vec2& q) {
+      const Vec3 h = p.x * q.x * e.duu + (p.x * q.y + p.y * q.x) * e.duv + p.y * q.y * e.dvv;
+      const Vec2 ph = pl_.dir(h);
+      const Vec2 zab = -(ph.x * zu + ph.y * zv);
+      return h + zab.x * e.du + zab.y * e.dv;
+    };
+    SurfacePoint r;
+    r.p = e.p;
+    r.du = zu.x * e.du + zu.y * e.dv;
+    r.dv = zv.x * e.du + zv.y * e.dv;
+    r.duu = second(zu, zu);
+    r.duv = second(zu, zv);
+    r.dvv = second(zv, zv);
+    return r;
+  }
+
+  // The limit point (with its derivatives in sub-face coordinates) whose projection is
+  // w. Newton's method in one sub-face's (s,t), where sigma is smooth (its derivatives
+  // jump across the spokes between sub-faces), from a linear step off the nearest
+  // sample; a solution beyond a spoke moves to the sub-face there and starts again.
+  // Near the patch (within a quarter of a sub-face) the sub-faces' first-order
+  // extension is inverted the same way; farther out (`far`: only the metric grids over
+  // the box of a thin patch ask there) sigma is the second-order Taylor extension from
+  // the nearest sample, derivatives in w.
+  SurfacePoint solve(Vec2 w, bool& far) const {
+    std::size_t best = 0;
+    double bd = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < samples_.size(); ++i) {
+      const Vec2 d = samples_[i].w - w;
+      const double dd = glm::dot(d, d);
+      if (dd < bd) bd = dd, best = i;
+    }
+    const Sample& sm = samples_[best];
+    const Vec2 dw = w - sm.w;
+    int k = sm.k;
+    Vec2 z = sm.z + dw.x * sm.iu + dw.y * sm.iv;
+    constexpr double kNear = 0.25;
+    far = !(z.x >= -kNear && z.y >= -kNear && z.x <= 1.0 + kNear && z.y <= 1.0 + kNear);
+    if (far) {
+      const SurfacePoint& a = sm.ew;
+      SurfacePoint r = a;
+      r.du = a.du + dw.x * a.duu + dw.y * a.duv;
+      r.dv = a.dv + dw.x * a.duv + dw.y * a.dvv;
+      r.p = a.p + dw.x * a.du + dw.y * a.dv +
+            0.5 * (dw.x * dw.x * a.duu + 2.0 * dw.x * dw.y * a.duv + dw.y * dw.y * a.dvv);
+      return r;
+    }
+    const int n = static_cast<int>(sub_.size());
+    SurfacePoint e;
+    for (int pass = 0;; ++pass) {
+      newton(*sub_[static_cast<std::size_t>(k)], w, z, e);
+      // Across a spoke (a little beyond it: on it both sides agree to rounding)?
+      constexpr double kOver = 1e-9;
+      if (pass >= 3 || (z.x <= 1.0 + kOver && z.y <= 1.0 + kOver)) break;
+      if (z.x - 1.0 >= z.y - 1.0) k = (k + 1) % n, z = Vec2(z.y, 2.0 - z.x);
+      else k = (k + n - 1) % n, z = Vec2(2.0 - z.y, z.x);
+    }
+    return e;
+  }
+  void newton(const SubdSurface& s, Vec2 w, Vec2& z, SurfacePoint& e) const {
+    e = s.eval(z.x, z.y);
+    Vec2 r = pl_.map(e.p) - w;
+    double rn = glm::length(r);
+    // 1e-14 of the unit domain: sigma(w) is exact at a point within 1e-14 of w, far below
+    // the acceptance's 1e-9 D; rounding of the projected coordinates is ~1e-16.
+    for (int it = 0; it < 12 && rn > 1e-14; ++it) {
+      // Outside the unit square SubdSurface extends sigma to first order from the
+      // clamped point c: p = P(c) + (z - c) . D(c), whose derivative along a side also
+      // has the cross term (z - c) D_uv(c), which eval() leaves out; with it Newton
+      // converges quadratically there too.
+      const double ox = z.x - std::clamp(z.x, 0.0, 1.0), oy = z.y - std::clamp(z.y, 0.0, 1.0);
+      const Vec3 ju = oy != 0.0 && ox == 0.0 ? e.du + oy * e.duv : e.du;
+      const Vec3 jv = ox != 0.0 && oy == 0.0 ? e.dv + ox * e.duv : e.dv;
+      const Vec2 a0 = pl_.dir(ju), a1 = pl_.dir(jv);
+      const double det = a0.x * a1.y - a0.y * a1.x;
+      if (!(std::abs(det) > 0)) break;
+      const Vec2 dz(-(a1.y * r.x - a1.x * r.y) / det, -(-a0.y * r.x + a0.x * r.y) / det);
+      double step = 1.0;
+      bool moved = false;
+      for (int h = 0; h < 8; ++h, step *= 0.5) {
+        const Vec2 zn = z + step * dz;
+        const SurfacePoint en = s.eval(zn.x, zn.y);
+        const Vec2 rr = pl_.map(en.p) - w;
+        const double rnn = glm::length(rr);
+        if (rnn < rn) {
+          z = zn, e = en, r = rr, rn = rnn, moved = true;
+          break;
+        }
+        // Close to the solution a step that does not reduce the residual meets the
+        // rounding of the evaluation (~1e-11 outside the patch, in the extension): stop
+        // there rather than search along the step.
+        if (rn < 1e-10) break;
+      }
+      if (!moved) break;
+    }
+  }
+
+  struct Sample {
+    int k;
+    Vec2 z, w;
+    Vec2 iu, iv;     // columns of the inverse Jacobian of P o sigma at z
+    SurfacePoint ew;  // sigma and its derivatives in w there
+  };
+  std::vector<std::shared_ptr<const SubdSurface>> sub_;
+  SubdPlane pl_;
+  std::vector<Sample> samples_;
+  Box2 box_;
+};
+
+// The pcurve of an edge use on a projected patch: the projection of the limit curve,
+// i.e. P(inner(line(t))) for the straight inner pcurve; sigma(pcurve(t)) is then the
+// edge's point at t, as on every other side.
+class ProjectedCurve2 final : public Curve2 {
+ public:
+  ProjectedCurve2(std::shared_ptr<const Surface> inner, SubdPlane pl, std::shared_ptr<const Curve2> line)
+      : c_(std::move(inner), std::move(line)), pl_(pl) {}
+  CurvePoint2 eval(double t) const override {
+    const CurvePoint3 c = c_.eval(t);
+    return {pl_.map(c.p), pl_.dir(c.d1), pl_.dir(c.d2)};
+  }
+  Interval range() const override { return c_.range(); }
+  CurveKind kind() const override { return CurveKind::Other; }
+
+ private:
+  CurveOnPatch c_;  // the limit curve along the straight pcurve of the inner domain
+  SubdPlane pl_;
+};
+
 // OpenSubdiv reports topology problems through process-global callbacks that print by
 // default; library code must not print, so they are collected while a model is built.
 thread_local std::vector<std::string>* g_far_messages = nullptr;
@@ -335,7 +526,7 @@ struct Piece {
 // across a spoke and Newton projections stalled on it). Empty (sub-face patches are used)
 // when a vertex repeats or a quad is not strictly convex (the bilinear maps would not be
 // one-to-one) or the quads do not turn once around the centre.
-bool flatten_ngon(const std::vector<Vec3>& bnd, const Vec3& centre, std::vector<Vec2>& out, Vec2& c2) {
+bool flatten_ngon(const std::vector<Vec3>& bnd, const Vec3& centre, std::vector<Vec2>& out, Vec2& c2, SubdPlane& plane) {
   const int m = static_cast<int>(bnd.size()), n = m / 2;
   Vec3 N{0.0};
   for (int i = 0; i < m; ++i) N += glm::cross(bnd[i] - centre, bnd[(i + 1) % m] - centre);
@@ -368,7 +559,48 @@ bool flatten_ngon(const std::vector<Vec3>& bnd, const Vec3& centre, std::vector<
   if (std::abs(turn - 2 * std::acos(-1.0)) > 1e-6) return false;
   out = std::move(q);
   c2 = c;
+  plane = {bnd[0], x, y, ext};
   return true;
+}
+
+// Valence from which the n-gon patches at a vertex are projected (ProjectedSurface). The
+// corner squeeze of OpenSubdiv's parameterization grows with the valence n (a 90-degree
+// sub-face corner onto about 360/n degrees: 2x at n = 8, 16x at n = 64).
+constexpr int kProjectValence = 8;
+
+// The projected version of an n-gon patch (ProjectedSurface), or null when the
+// projection is not one-to-one on it: the Jacobian of P o inner must keep its sign
+// (positive: the polygon is CCW in the same plane) on 9 x 9 samples of every quad, and
+// stay above 1e-3 of its median (a fold or a cusp of the projection would make the
+// inversion ill-conditioned).
+std::shared_ptr<const ProjectedSurface> make_projected(const std::vector<std::shared_ptr<const SubdSurface>>& sub,
+                                                       const SubdPlane& pl) {
+  constexpr int ns = 8;
+  std::vector<std::pair<int, Vec2>> zs;
+  std::vector<double> dets;
+  Box2 box{{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()},
+           {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
+  for (int k = 0; k < static_cast<int>(sub.size()); ++k)
+    for (int i = 0; i <= ns; ++i)
+      for (int j = 0; j <= ns; ++j) {
+        const Vec2 z{double(i) / ns, double(j) / ns};
+        const SurfacePoint e = sub[static_cast<std::size_t>(k)]->eval(z.x, z.y);
+        const Vec2 w = pl.map(e.p), a0 = pl.dir(e.du), a1 = pl.dir(e.dv);
+        zs.push_back({k, z});
+        dets.push_back(a0.x * a1.y - a0.y * a1.x);
+        box.u.lo = std::min(box.u.lo, w.x), box.u.hi = std::max(box.u.hi, w.x);
+        box.v.lo = std::min(box.v.lo, w.y), box.v.hi = std::max(box.v.hi, w.y);
+      }
+  std::vector<double> sorted = dets;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double med = sorted[sorted.size() / 2];
+  if (!(med > 0)) return nullptr;
+  for (double d : dets)
+    if (!(d > 1e-3 * med)) return nullptr;
+  // The boundary curves bulge between samples; the box only bounds the metric grids.
+  const double mu = 0.02 * box.u.length(), mv = 0.02 * box.v.length();
+  box.u.lo -= mu, box.u.hi += mu, box.v.lo -= mv, box.v.hi += mv;
+  return std::make_shared<ProjectedSurface>(sub, pl, zs, box);
 }
 
 }  // namespace
@@ -499,13 +731,14 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   // patch per sub-face.
   std::vector<std::vector<Vec2>> poly(nf);
   std::vector<Vec2> poly_centre(nf, Vec2(0.0));
+  std::vector<SubdPlane> poly_plane(nf);
   auto subface_surface = [&](int f, int k) {
     const Bfr::Parameterization param = base[f]->s.GetParameterization();
     const double z[2] = {0.0, 0.0}, one[2] = {1.0, 1.0};
     double o[2], q[2];
     param.ConvertNormalizedSubFaceToCoord(k, z, o);
     param.ConvertNormalizedSubFaceToCoord(k, one, q);
-    return std::make_shared<SubdSurface>(base[f], Vec2(o[0], o[1]), q[0] - o[0]);
+    return std::make_shared<SubdSurface>(base[f], Vec2(o[0], o[1]), q[0] - o[0], true);
   };
   if (!loop)
     for (int f = 0; f < nf; ++f) {
@@ -521,7 +754,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
         bnd.push_back(sk->point(0.0, 0.0));
         bnd.push_back(sk->point(1.0, 0.0));
       }
-      if (!flatten_ngon(bnd, subface_surface(f, 0)->point(1.0, 1.0), poly[f], poly_centre[f])) poly[f].clear();
+      if (!flatten_ngon(bnd, subface_surface(f, 0)->point(1.0, 1.0), poly[f], poly_centre[f], poly_plane[f]))
+        poly[f].clear();
     }
 
   // ---- which base edges are split at their midpoint (used by a sub-face patch)
@@ -596,14 +830,18 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
 
   // The first use of an edge gives it its 3D curve (the limit curve seen from that
   // patch); the first patch at a vertex gives its position.
-  auto add_use = [&](Loop& loop_, const std::shared_ptr<const Surface>& s, Id edge, bool rev, Vec2 a, Vec2 d) {
+  // On a projected patch `ps` the pcurve is the projection of the straight line in the
+  // coordinates of s (ProjectedCurve2); the edge's 3D curve always comes from s.
+  auto add_use = [&](Loop& loop_, const std::shared_ptr<const Surface>& s, Id edge, bool rev, Vec2 a, Vec2 d,
+                     const std::shared_ptr<const ProjectedSurface>& ps = nullptr) {
     Edge& ed = m.edges[edge];
     EdgeUse u;
     u.edge = edge;
     u.reversed = rev;
     u.range = ed.range;
-    u.pcurve = make_line2(a, d, ed.range);  // straight in (u,v): same t, same point on every side
-    if (!ed.curve && !ed.degenerate) ed.curve = std::make_shared<CurveOnPatch>(s, u.pcurve);
+    const std::shared_ptr<Curve2> line = make_line2(a, d, ed.range);  // same t, same point on every side
+    u.pcurve = ps ? std::make_shared<ProjectedCurve2>(s, ps->plane(), line) : line;
+    if (!ed.curve && !ed.degenerate) ed.curve = std::make_shared<CurveOnPatch>(s, line);
     loop_.uses.push_back(std::move(u));
   };
   auto place = [&](Id v, const Surface& s, Vec2 uv) {
@@ -641,11 +879,14 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     if (!poly[f].empty()) {
       std::vector<std::shared_ptr<const SubdSurface>> sub;
       for (int k = 0; k < n; ++k) sub.push_back(subface_surface(f, k));
+      bool high_valence = false;
+      for (int v : fv) high_valence = high_valence || lvl.GetVertexEdges(v).size() >= kProjectValence;
+      const auto ps = high_valence ? make_projected(sub, poly_plane[f]) : nullptr;
       auto s = std::make_shared<NgonSurface>(std::move(sub), poly[f], poly_centre[f]);
       Face fc;
-      fc.surface = s;
+      fc.surface = ps ? std::static_pointer_cast<const Surface>(ps) : s;
       fc.kind = SurfaceKind::Other;
-      fc.uv_box = s->bounds();
+      fc.uv_box = fc.surface->bounds();
       Loop lp;
       lp.outer = true;
       const std::vector<Vec2>& P = poly[f];
@@ -655,20 +896,21 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
         const Vec2 a = P[2 * i], mid = P[2 * i + 1], b = P[(2 * i + 2) % (2 * n)];
         const int e = fe[i];
         if (forward(i)) {
-          add_use(lp, s, pieces[e][0].edge, false, a, 2.0 * (mid - a));
-          add_use(lp, s, pieces[e][1].edge, false, 2.0 * mid - b, 2.0 * (b - mid));
+          add_use(lp, s, pieces[e][0].edge, false, a, 2.0 * (mid - a), ps);
+          add_use(lp, s, pieces[e][1].edge, false, 2.0 * mid - b, 2.0 * (b - mid), ps);
         } else {
-          add_use(lp, s, pieces[e][1].edge, true, 2.0 * mid - a, 2.0 * (a - mid));
-          add_use(lp, s, pieces[e][0].edge, true, b, 2.0 * (mid - b));
+          add_use(lp, s, pieces[e][1].edge, true, 2.0 * mid - a, 2.0 * (a - mid), ps);
+          add_use(lp, s, pieces[e][0].edge, true, b, 2.0 * (mid - b), ps);
         }
         place(vtx_of_base[fv[i]], *s, a);
         place(vtx_of_mid[e], *s, mid);
       }
       fc.loops.push_back(std::move(lp));
       m.faces.push_back(std::move(fc));
-      SubdPatch pt{f, -1, n, Vec2(0.0), 1.0, {}, {}};
+      SubdPatch pt{f, -1, n, Vec2(0.0), 1.0, {}, {}, nullptr, {}};
       pt.polygon = poly[f];
       pt.centre = poly_centre[f];
+      if (ps) pt.unprojected = s, pt.plane = ps->plane();
       r.patches.push_back(std::move(pt));
       continue;
     }
@@ -687,7 +929,7 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       }
       fc.loops.push_back(std::move(lp));
       m.faces.push_back(std::move(fc));
-      r.patches.push_back({f, -1, n, Vec2(0.0), 1.0, {}, {}});
+      r.patches.push_back({f, -1, n, Vec2(0.0), 1.0, {}, {}, nullptr, {}});
       continue;
     }
     // n-gon: sub-face k has its (0,0) corner at vertex k, (1,0) at the midpoint of
@@ -720,7 +962,7 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       place(vtx_of_center[f], *s, {1.0, 1.0});
       fc.loops.push_back(std::move(lp));
       m.faces.push_back(std::move(fc));
-      r.patches.push_back({f, k, n, s->origin(), s->scale(), {}, {}});
+      r.patches.push_back({f, k, n, s->origin(), s->scale(), {}, {}, nullptr, {}});
     }
   }
 
@@ -736,10 +978,19 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   for (std::size_t v = 0; v < vtx_of_base.size() && v < cage.points.size(); ++v) r.cage_vertex[v] = vtx_of_base[v];
 
   // ---- bounding box of the limit surface (sampled: the cage's box is larger)
-  for (const Face& fc : m.faces) {
+  // Sampled through subd_patch_domain_point: the domain of an n-gon patch is its
+  // polygon (or that polygon's projection), not the unit square, and outside it sigma is
+  // only an extension (far out, on a projected patch, a Taylor polynomial).
+  const auto quads = [&](Id f) { return r.patches[f].polygon.empty() ? 1 : r.patches[f].face_size; };
+  const auto sample = [&](Id f, int q, double s_, double t_) {
+    const Vec2 w = subd_patch_domain_point(r.patches[f], q, {s_, t_});
+    return m.faces[f].surface->point(w.x, w.y);
+  };
+  for (Id f = 0; f < static_cast<Id>(m.faces.size()); ++f) {
     constexpr int ns = 8;
-    for (int i = 0; i <= ns; ++i)
-      for (int j = 0; j <= ns - (loop ? i : 0); ++j) m.bbox.add(fc.surface->point(double(i) / ns, double(j) / ns));
+    for (int q = 0; q < quads(f); ++q)
+      for (int i = 0; i <= ns; ++i)
+        for (int j = 0; j <= ns - (loop ? i : 0); ++j) m.bbox.add(sample(f, q, double(i) / ns, double(j) / ns));
   }
   for (const Vertex& v : m.vertices) m.bbox.add(v.p);
   const double D = m.bbox.diagonal();
@@ -785,19 +1036,19 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     double vol = 0.0;
     const Vec3 ref = m.bbox.lo;
     for (Id f : m.shells[sh].faces) {
-      const Surface& s = *m.faces[f].surface;
       constexpr int ns = 4;
-      for (int i = 0; i < ns; ++i)
-        for (int j = 0; j < ns; ++j) {
-          const double u0 = double(i) / ns, u1 = double(i + 1) / ns, v0 = double(j) / ns, v1 = double(j + 1) / ns;
-          if (loop && i + j >= ns) continue;
-          const Vec3 a = s.point(u0, v0) - ref, b = s.point(u1, v0) - ref, c = s.point(u0, v1) - ref;
-          vol += glm::dot(a, glm::cross(b, c));
-          if (!loop || i + j + 1 < ns) {
-            const Vec3 d = s.point(u1, v1) - ref;
-            vol += glm::dot(b, glm::cross(d, c));
+      for (int q = 0; q < quads(f); ++q)
+        for (int i = 0; i < ns; ++i)
+          for (int j = 0; j < ns; ++j) {
+            const double u0 = double(i) / ns, u1 = double(i + 1) / ns, v0 = double(j) / ns, v1 = double(j + 1) / ns;
+            if (loop && i + j >= ns) continue;
+            const Vec3 a = sample(f, q, u0, v0) - ref, b = sample(f, q, u1, v0) - ref, c = sample(f, q, u0, v1) - ref;
+            vol += glm::dot(a, glm::cross(b, c));
+            if (!loop || i + j + 1 < ns) {
+              const Vec3 d = sample(f, q, u1, v1) - ref;
+              vol += glm::dot(b, glm::cross(d, c));
+            }
           }
-        }
     }
     if (vol < 0.0)
       for (Id f : m.shells[sh].faces) m.faces[f].reversed = true;

@@ -248,6 +248,12 @@ Vec2 ngon_domain_point(const std::vector<Vec2>& poly, Vec2 c, int k, Vec2 st) {
   return (1 - st.x) * (1 - st.y) * p00 + st.x * (1 - st.y) * p10 + st.x * st.y * c + (1 - st.x) * st.y * p01;
 }
 
+Vec2 subd_patch_domain_point(const SubdPatch& P, int q, Vec2 st) {
+  const Vec2 x = P.polygon.empty() ? st : ngon_domain_point(P.polygon, P.centre, q, st);
+  if (!P.unprojected) return x;
+  return P.plane.map(P.unprojected->point(x.x, x.y));
+}
+
 Vec2 ngon_subface_coords(const std::vector<Vec2>& poly, Vec2 c, int k, Vec2 x) {
   Vec2 p00, p10, p01;
   ngon_quad(poly, k, p00, p10, p01);

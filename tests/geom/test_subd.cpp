@@ -230,8 +230,9 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
         if (loop && u + v > 0.96) u *= 0.5, v *= 0.5;
         if (!P.polygon.empty()) {
           // An n-gon patch: a point well inside one of its quads (sigma's derivatives
-          // jump across the spokes between them).
-          const Vec2 x = geom::ngon_domain_point(P.polygon, P.centre, k % P.face_size, {u, v});
+          // jump across the spokes between them), in the patch's domain (projected at a
+          // high-valence vertex).
+          const Vec2 x = geom::subd_patch_domain_point(P, k % P.face_size, {u, v});
           u = x.x, v = x.y;
         }
         const double err = test::surface_fd_error(s, u, v, 1e-5, 1e-5, D);
@@ -319,9 +320,9 @@ TEST_CASE("subd model: a Catmull-Clark n-gon is one patch on its flattened limit
       for (int j = 0; j <= 10; ++j) {
         // Spoke k seen from sub-face k (s = 1) and from sub-face k+1 (t = 1): one (u,v)
         // segment, and sigma continuous across it.
-        const Vec2 a = geom::ngon_domain_point(P.polygon, P.centre, k, {1.0, j / 10.0});
-        const Vec2 b = geom::ngon_domain_point(P.polygon, P.centre, (k + 1) % 3, {j / 10.0, 1.0});
-        CHECK(glm::length(a - b) < 1e-14);
+        const Vec2 a = geom::subd_patch_domain_point(P, k, {1.0, j / 10.0});
+        const Vec2 b = geom::subd_patch_domain_point(P, (k + 1) % 3, {j / 10.0, 1.0});
+        CHECK(glm::length(a - b) < 1e-12);
         const Vec2 nrm = glm::normalize(Vec2(P.centre.y - a.y, a.x - P.centre.x)) * 1e-9;
         if (j < 10) gap = std::max(gap, glm::length(s.point(a.x + nrm.x, a.y + nrm.y) - s.point(a.x - nrm.x, a.y - nrm.y)));
         const Vec2 st = geom::ngon_subface_coords(P.polygon, P.centre, k, geom::ngon_domain_point(P.polygon, P.centre, k, {0.3, j / 10.0}));
@@ -330,5 +331,61 @@ TEST_CASE("subd model: a Catmull-Clark n-gon is one patch on its flattened limit
   }
   CHECK(ngons == 64);
   CHECK(gap < 1e-7 * r.model.bbox.diagonal());
+  CHECK(back < 1e-12);
+}
+
+namespace {
+// Length of sigma along the straight (u,v) segment a-b (200 chords) over the 3D chord
+// |sigma(b) - sigma(a)|: 1 when the segment maps to a straight 3D segment.
+double arc_over_chord(const geom::Surface& s, Vec2 a, Vec2 b) {
+  constexpr int n = 200;
+  double len = 0;
+  geom::Vec3 prev = s.point(a.x, a.y);
+  for (int i = 1; i <= n; ++i) {
+    const Vec2 x = a + (b - a) * (double(i) / n);
+    const geom::Vec3 q = s.point(x.x, x.y);
+    len += glm::length(q - prev);
+    prev = q;
+  }
+  return len / glm::length(s.point(b.x, b.y) - s.point(a.x, a.y));
+}
+}  // namespace
+
+TEST_CASE("catmark_pole64: patches at the valence-64 pole are projected, straight (u,v) segments across them nearly straight in 3D",
+          "[geom][subd]") {
+  // OpenSubdiv's sub-face parameterization at the pole bends the lines s + t = c toward
+  // the pole: the straight segment between (0.4, 0) and (0, 0.4) of the pole's sub-face
+  // maps to a curve ~9x longer than its chord, so the induced metric varied 6x across
+  // one element and mesher2d split every edge across the strips (Q < 1.5 on 0.90 of the
+  // triangles). In the projected domain (SubdPatch::unprojected) it is nearly straight.
+  const auto r = geom::read_subd(cage_path("catmark_pole64.obj"), {});
+  REQUIRE(r.ok);
+  int projected = 0;
+  double worst_new = 0, worst_old = 0, back = 0;
+  for (std::size_t f = 0; f < r.patches.size(); ++f) {
+    const geom::SubdPatch& P = r.patches[f];
+    if (P.face_size != 3) {
+      CHECK(!P.unprojected);  // quads at valence-4 vertices keep OpenSubdiv's domain
+      continue;
+    }
+    REQUIRE(P.unprojected);
+    ++projected;
+    const geom::Surface& s = *r.model.faces[f].surface;
+    for (int k = 0; k < 3; ++k) {
+      for (double c : {0.1, 0.4}) {
+        worst_new = std::max(worst_new, arc_over_chord(s, geom::subd_patch_domain_point(P, k, {c, 0.0}),
+                                                       geom::subd_patch_domain_point(P, k, {0.0, c})));
+        worst_old = std::max(worst_old, arc_over_chord(*P.unprojected, geom::ngon_domain_point(P.polygon, P.centre, k, {c, 0.0}),
+                                                       geom::ngon_domain_point(P.polygon, P.centre, k, {0.0, c})));
+      }
+      // The domain is the projection: sigma(w) projects back to w.
+      const Vec2 w = geom::subd_patch_domain_point(P, k, {0.3, 0.6});
+      back = std::max(back, glm::length(P.plane.map(s.point(w.x, w.y)) - w));
+    }
+  }
+  INFO("arc/chord across the strips: projected " << worst_new << ", OpenSubdiv's domain " << worst_old);
+  CHECK(projected == 64);
+  CHECK(worst_old > 3.0);
+  CHECK(worst_new < 1.1);
   CHECK(back < 1e-12);
 }
