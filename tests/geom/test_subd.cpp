@@ -351,7 +351,7 @@ double arc_over_chord(const geom::Surface& s, Vec2 a, Vec2 b) {
 }
 }  // namespace
 
-TEST_CASE("catmark_pole64: patches at the valence-64 pole are projected, straight (u,v) segments across them nearly straight in 3D",
+TEST_CASE("subd model: catmark_pole64 patches at the valence-64 pole are projected and straight (u,v) segments across them nearly straight in 3D",
           "[geom][subd]") {
   // OpenSubdiv's sub-face parameterization at the pole bends the lines s + t = c toward
   // the pole: the straight segment between (0.4, 0) and (0, 0.4) of the pole's sub-face
