@@ -265,6 +265,60 @@ void fix_coincident_seams(Face& fc, const std::vector<SeamPcurve>& pcs) {
     }
 }
 
+
+// Orders a loop's uses so that each starts, in (u,v), where the previous one ends. The
+// wire explorer chains edges through their 3D vertices, which is ambiguous when one
+// vertex closes several edges: on a doubly closed face (the revolution of a closed
+// profile: dagmc_ball_reactor's face 0, one vertex and two seams) it returned
+// "bottom, top, left, right", and the (u,v) boundary built from it jumped across the
+// domain and crossed itself. A loop that already chains (total gap ~0) is left alone;
+// otherwise a greedy chain from the first use is kept when it closes the gaps better.
+void chain_loop_in_uv(Loop& loop, const Box2& box) {
+  const double ext = std::max({box.u.length(), box.v.length(), 1e-300});
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < loop.uses.size(); ++i)
+    if (!loop.uses[i].internal) {
+      if (!loop.uses[i].pcurve) return;
+      idx.push_back(i);
+    }
+  if (idx.size() < 3) return;
+  auto end_pt = [&](std::size_t i, bool start) {
+    const EdgeUse& u = loop.uses[i];
+    const bool lo = start != u.reversed;
+    return u.pcurve->point(lo ? u.range.lo : u.range.hi);
+  };
+  auto total_gap = [&](const std::vector<std::size_t>& order) {
+    double g = 0;
+    for (std::size_t k = 0; k < order.size(); ++k)
+      g += glm::length(end_pt(order[(k + 1) % order.size()], true) - end_pt(order[k], false));
+    return g;
+  };
+  const double g0 = total_gap(idx);
+  if (!(g0 > 1e-7 * ext)) return;
+  std::vector<std::size_t> chain{idx[0]};
+  std::vector<char> used(idx.size(), 0);
+  used[0] = 1;
+  for (std::size_t step = 1; step < idx.size(); ++step) {
+    const Vec2 at = end_pt(chain.back(), false);
+    std::size_t best = 0;
+    double bd = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 1; k < idx.size(); ++k)
+      if (!used[k]) {
+        const double d = glm::length(end_pt(idx[k], true) - at);
+        if (d < bd) bd = d, best = k;
+      }
+    used[best] = 1;
+    chain.push_back(idx[best]);
+  }
+  if (!(total_gap(chain) < 0.5 * g0)) return;
+  std::vector<EdgeUse> uses;
+  uses.reserve(loop.uses.size());
+  for (std::size_t i : chain) uses.push_back(std::move(loop.uses[i]));
+  for (auto& u : loop.uses)
+    if (u.internal) uses.push_back(std::move(u));
+  loop.uses = std::move(uses);
+}
+
 }  // namespace
 
 Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
@@ -370,6 +424,7 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
         fc.loops.push_back(std::move(loop));
       }
       fix_coincident_seams(fc, seam_pc);
+      for (Loop& l : fc.loops) chain_loop_in_uv(l, fc.uv_box);
       std::stable_sort(fc.loops.begin(), fc.loops.end(),
                        [](const Loop& a, const Loop& b) { return a.outer && !b.outer; });
       if (opt.check_validity) {

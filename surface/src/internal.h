@@ -98,6 +98,9 @@ struct FaceMesh {
   /// Pieces of edges whose (u,v) polylines crossed: {edge, curve parameter of the
   /// piece's midpoint}. Splitting them lets the polylines follow the pcurves closer.
   std::vector<std::pair<geom::Id, double>> refine_at;
+  /// Triangulated from its boundary nodes only (its (u,v) boundary was unusable; see
+  /// mesh_face's boundary_fallback).
+  bool from_boundary = false;
   FaceStats stats;
 };
 
@@ -125,6 +128,6 @@ double q3(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c);
 /// Stage 2: one face.
 FaceMesh mesh_face(const geom::Model& m, geom::Id face, const std::vector<EdgeNodes>& edges,
                    const std::vector<geom::Vec3>& node_points, const param::FaceSizeField& field,
-                   const MeshOptions& opt);
+                   const MeshOptions& opt, bool boundary_fallback = false);
 
 }  // namespace uvmesh::surface::detail

@@ -354,6 +354,41 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
                          " piece(s) of " + std::to_string(touched.size()) +
                          " edge(s) split where (u,v) boundaries crossed; model meshed again");
   }
+  // Faces whose (u,v) boundary stayed unusable after the crossing rounds: a last try
+  // that may triangulate them from their boundary nodes (face.cpp,
+  // triangulate_from_boundary). The edges are final, so the nodes are the ones the
+  // neighbouring faces use.
+  {
+    const auto tf0 = Clock::now();
+    std::vector<std::size_t> retry;
+    for (std::size_t f = 0; f < nf; ++f)
+      if (!fm[f].error.empty() && fm[f].error == face_error[f] && twin_of[f] == geom::kNone) retry.push_back(f);
+    const std::vector<geom::Vec3>& node_points = M.points;
+    parallel_indices(arena, retry.size(), [&](std::size_t k) {
+      const std::size_t f = retry[k];
+      const auto tf = Clock::now();
+      if (!fields[f]) build_field(f);
+      detail::FaceMesh r;
+      try {
+        if (fields[f]) r = detail::mesh_face(m, static_cast<geom::Id>(f), edges, node_points, *fields[f], opt, true);
+      } catch (...) {
+        r = {};
+        r.error = fm[f].error;
+      }
+      fields[f].reset();
+      r.stats.face = static_cast<geom::Id>(f);
+      r.stats.seconds = fm[f].stats.seconds + seconds_since(tf);
+      if (r.error.empty()) face_error[f].clear();
+      else face_error[f] = r.error;
+      fm[f] = std::move(r);
+    });
+    for (std::size_t f : retry)
+      if (fm[f].from_boundary)
+        res.warnings.push_back("face " + std::to_string(f) +
+                               ": its (u,v) boundary is unusable (pcurves cross or coincide); triangulated from its " +
+                               std::to_string(fm[f].stats.boundary_nodes) + " boundary nodes, within the chordal tolerance");
+    t_faces += seconds_since(tf0);
+  }
   res.stages.push_back({"faces", t_faces});
   // Peak memory (issue 7, bench/memory): the face meshes and the whole output coexist
   // while stitching. The output arrays are sized once instead of doubling as they grow

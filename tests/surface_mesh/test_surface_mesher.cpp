@@ -5,6 +5,7 @@
 // output for any thread count.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <map>
 #include <set>
@@ -266,6 +267,67 @@ TEST_CASE("surface mesher: a face that cannot be meshed is reported, the rest is
   CHECK(faces == std::set<geom::Id>{0, 1, 3});
   // The hole left by the failed face is visible, not hidden: its boundary is free.
   CHECK(surface::check_topology(r.mesh).free_edges > 0);
+}
+
+TEST_CASE("surface mesher: a doubly closed face whose wire is not chained in (u,v) (dagmc_ball_reactor)", "[surface]") {
+  // Face 0 is the revolution of a closed profile: one vertex, two seam edges. The wire
+  // explorer returned its four uses as bottom, top, left, right; the (u,v) boundary built
+  // in that order jumped across the domain and crossed itself, and the face failed.
+  // Chained by (u,v) end points (occ_model.cpp, chain_loop_in_uv) it is a rectangle.
+  const geom::Model m = load(data("cad/dagmc_ball_reactor.brep"));
+  const surface::MeshResult r = surface::mesh_model(m, defaults(m));
+  for (const auto& f : r.failed) UNSCOPED_INFO("face " << f.face << ": " << f.reason);
+  CHECK(r.failed.empty());
+  CHECK(std::count(r.mesh.triangle_face.begin(), r.mesh.triangle_face.end(), geom::Id{0}) > 100);
+  CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);
+  io::CheckOptions co;
+  co.self_intersections = false;
+  co.threads = 1;
+  const io::CheckData d = io::check_mesh(r.mesh, &m, co);
+  REQUIRE(d.solids.size() == 8);
+  for (const auto& s : d.solids) {
+    CHECK(s.closed);
+    CHECK(s.free_edges == 0);
+    CHECK(s.non_manifold_edges == 0);
+  }
+}
+
+TEST_CASE("surface mesher: faces whose pcurves cross are triangulated from their boundary when that is valid",
+          "[surface]") {
+  // occt_caxif_k1 (read as the library reads it, without the command line's options):
+  // every face whose (u,v) boundary stays unusable after the crossing rounds gets the
+  // boundary triangulation tried, and a face that still fails says why it was refused.
+  {
+    const geom::Model m = load(data("cad/occt_caxif_k1.stp"));
+    const surface::MeshResult r = surface::mesh_model(m, defaults(m));
+    std::size_t fallback = 0;
+    for (const auto& w : r.warnings) fallback += w.find("triangulated from its") != std::string::npos;
+    for (const auto& f : r.failed) {
+      INFO("face " << f.face << ": " << f.reason);
+      CHECK(f.reason.find("not triangulated from its boundary either") != std::string::npos);
+    }
+    CHECK(fallback + r.failed.size() >= 2);
+  }
+  // occt_caxif_b1: slivers between two copies of one curve whose pcurves cross. Faces
+  // 58, 63 and 86 get a valid strip; on 71, 97, 251 and 273 the two curves cross in
+  // space too, every triangulation of the strip folds through itself, and the face is
+  // reported failed with that reason rather than meshed into a self-intersection.
+  {
+    const geom::Model m = load(data("cad/occt_caxif_b1.stp"));
+    const surface::MeshResult r = surface::mesh_model(m, defaults(m));
+    std::set<geom::Id> failed;
+    for (const auto& f : r.failed) {
+      INFO("face " << f.face << ": " << f.reason);
+      CHECK(f.reason.find("intersects itself") != std::string::npos);
+      failed.insert(f.face);
+    }
+    for (geom::Id f : {58, 63, 86}) {
+      INFO("face " << f);
+      CHECK(failed.count(f) == 0);
+      CHECK(std::count(r.mesh.triangle_face.begin(), r.mesh.triangle_face.end(), f) >= 1);
+    }
+    for (geom::Id f : {71, 97, 251, 273}) CHECK(failed.count(f) == 1);
+  }
 }
 
 TEST_CASE("surface mesher: a face beyond the per-face time limit is reported, the run finishes", "[surface]") {
