@@ -217,8 +217,17 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
   d.components = components(m, e);
   if (model) d.free_edges_on_open_model_edges = free_on_open_model_edges(m, *model, e);
   if (model) d.solids = solid_topology(m, *model);
-  if (opt.self_intersections)
+  if (opt.self_intersections) {
     d.intersections = surface::find_self_intersections(m, opt.max_list, opt.threads);
+    if (model && d.intersections->intersecting_pairs > 0) {
+      // Every pair is classified, not only the listed ones.
+      const surface::IntersectionReport all =
+          d.intersections->pairs.size() < d.intersections->intersecting_pairs
+              ? surface::find_self_intersections(m, static_cast<int>(d.intersections->intersecting_pairs), opt.threads)
+              : *d.intersections;
+      d.intersections_in_model = surface::pairs_intersecting_in_model(m, *model, all.pairs).size();
+    }
+  }
   // With a model, bad triangles across gaps narrower than the mesher's proximity floor
   // (for the sizes given, else the default sizes') are counted apart from the others.
   // Gaps within the CAD tolerances of the two edges count as narrow as well.
@@ -359,6 +368,7 @@ nlohmann::json report_json(const CheckData& d) {
     for (const auto& p : d.intersections->pairs)
       pairs.push_back({{"t0", p.t0}, {"f0", p.f0}, {"t1", p.t1}, {"f1", p.f1}});
     topo["self_intersection_list"] = pairs;
+    if (d.intersections_in_model) topo["self_intersections_in_model"] = *d.intersections_in_model;
   }
   j["topology"] = topo;
 

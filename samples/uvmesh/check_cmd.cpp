@@ -202,8 +202,11 @@ int run_check(const CheckFlags& f) {
             << t.degenerate_triangles << " degenerate triangles; " << t.close_points.pairs
             << " close point pairs" << (t.watertight() ? "; watertight" : "") << "\n";
   if (d.intersections)
-    std::cout << "self-intersections: " << d.intersections->intersecting_pairs
-              << " triangle pairs\n";
+    std::cout << "self-intersections: " << d.intersections->intersecting_pairs << " triangle pairs"
+              << (d.intersections_in_model
+                      ? " (" + std::to_string(*d.intersections_in_model) + " where the model's own surfaces intersect)"
+                      : std::string())
+              << "\n";
   std::cout << "quality: Q max " << q.Q_max << ", p95 " << q.Q_p95 << ", p50 " << q.Q_p50
             << "; q min " << q.q_min << ", mean " << q.q_mean << "; " << 100.0 * q.share_Q_lt_1_5
             << "% with Q < 1.5; angles " << q.min_angle_deg << " .. " << q.max_angle_deg

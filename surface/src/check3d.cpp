@@ -532,6 +532,60 @@ bool triangles_intersect(const SurfaceMesh& m, TriId t0, TriId t1) {
   return pair_intersects(m, t0, t1, kind);
 }
 
+std::vector<std::size_t> pairs_intersecting_in_model(const SurfaceMesh& m, const geom::Model& model,
+                                                     const std::vector<IntersectingPair>& pairs, int k) {
+  std::vector<std::size_t> out;
+  if (m.triangle_uv.size() != m.triangles.size() || k < 1) return out;
+  // The surface piece under triangle t: (k+1)(k+2)/2 points of a barycentric grid of its
+  // (u,v) triangle mapped through sigma, k^2 triangles, appended to `pc`.
+  auto piece = [&](TriId t, SurfaceMesh& pc, int skip_corner) {
+    const auto f = static_cast<std::size_t>(m.triangle_face[static_cast<std::size_t>(t)]);
+    if (f >= model.faces.size() || !model.faces[f].surface) return false;
+    const geom::Surface& s = *model.faces[f].surface;
+    const auto& uv = m.triangle_uv[static_cast<std::size_t>(t)];
+    const auto base = static_cast<NodeId>(pc.points.size());
+    auto id = [&](int i, int j) { return base + static_cast<NodeId>(i * (k + 1) - i * (i - 1) / 2 + j); };
+    for (int i = 0; i <= k; ++i)
+      for (int j = 0; i + j <= k; ++j) {
+        const geom::Vec2 p = uv[0] + (uv[1] - uv[0]) * (double(i) / k) + (uv[2] - uv[0]) * (double(j) / k);
+        const geom::Vec3 x = s.point(p.x, p.y);
+        if (!std::isfinite(x.x + x.y + x.z)) return false;
+        pc.points.push_back(x);
+      }
+    // Pieces touching the corner the two triangles share meet there by construction.
+    const NodeId skip = skip_corner == 0 ? id(0, 0) : skip_corner == 1 ? id(k, 0) : skip_corner == 2 ? id(0, k) : -1;
+    auto add = [&](std::array<NodeId, 3> T) {
+      if (T[0] != skip && T[1] != skip && T[2] != skip) pc.triangles.push_back(T);
+    };
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; i + j < k; ++j) {
+        add({id(i, j), id(i + 1, j), id(i, j + 1)});
+        if (i + j + 1 < k) add({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      }
+    return true;
+  };
+  for (std::size_t n = 0; n < pairs.size(); ++n) {
+    const IntersectingPair& p = pairs[n];
+    if (p.kind != PairKind::Disjoint && p.kind != PairKind::SharedVertex) continue;
+    int c0 = -1, c1 = -1;
+    if (p.kind == PairKind::SharedVertex) {
+      const auto &A = m.triangles[static_cast<std::size_t>(p.t0)], &B = m.triangles[static_cast<std::size_t>(p.t1)];
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          if (A[a] == B[b]) c0 = a, c1 = b;
+    }
+    SurfaceMesh pc;
+    if (!piece(p.t0, pc, c0)) continue;
+    const auto split = static_cast<TriId>(pc.triangles.size());
+    if (!piece(p.t1, pc, c1)) continue;
+    bool hit = false;
+    for (TriId a = 0; a < split && !hit; ++a)
+      for (TriId b = split; b < static_cast<TriId>(pc.triangles.size()) && !hit; ++b) hit = triangles_intersect(pc, a, b);
+    if (hit) out.push_back(n);
+  }
+  return out;
+}
+
 IntersectionReport find_self_intersections(const SurfaceMesh& m, int max_report, int threads) {
   IntersectionReport r;
   const std::size_t nt = m.triangles.size();

@@ -216,6 +216,11 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     lm.scale.push_back(scale);
     return static_cast<int>(lm.uv.size()) - 1;
   };
+  // A new point q splits a-b in 3D when it is at least a thousandth of |ab| from both.
+  auto splits_in_3d = [](const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& q) {
+    const double l = 1e-3 * glm::length(b - a);
+    return glm::length(q - a) > l && glm::length(q - b) > l;
+  };
   const std::size_t nt = lm.tris.size();
   // Interior edges -> their two (triangle, opposite corner) uses.
   std::map<std::pair<int, int>, std::vector<std::pair<std::size_t, int>>> uses;
@@ -256,7 +261,17 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     const auto [t2, i2] = u[1];
     if (touched[t1] || touched[t2]) continue;
     // The (u,v) midpoint lies on the shared (u,v) edge: the four halves stay CCW.
-    const int n = add_point(0.5 * (lm.uv[a] + lm.uv[b]), 0.5 * (lm.scale[a] + lm.scale[b]));
+    // Where the surface folds over itself (occt_mesh_hang's swept tube: sigma_u x
+    // sigma_v vanishes along lines and the normal reverses across them) the midpoint can
+    // map onto an end point or onto a corner opposite the edge: the split would only add
+    // zero-area triangles, round after round (6 copies of one point there with 8 rounds).
+    const geom::Vec2 mid = 0.5 * (lm.uv[a] + lm.uv[b]);
+    const geom::Vec3 q = s.point(mid.x, mid.y);
+    const int c1 = lm.tris[t1][i1], c2 = lm.tris[t2][i2];  // the corners opposite a-b
+    if (!splits_in_3d(lm.p[a], lm.p[b], q) || !splits_in_3d(lm.p[a], lm.p[c1], q) ||
+        !splits_in_3d(lm.p[a], lm.p[c2], q))
+      continue;
+    const int n = add_point(mid, 0.5 * (lm.scale[a] + lm.scale[b]));
     if (n < 0) continue;
     for (const auto& [t, i] : {std::pair{t1, i1}, std::pair{t2, i2}}) {
       const auto T = lm.tris[t];  // corner c opposite the edge x-y, CCW
@@ -277,6 +292,10 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     // The foot, when it lies inside the (u,v) triangle; else the (u,v) centroid.
     if (!ccw(lm.uv[T[0]], lm.uv[T[1]], foot) || !ccw(lm.uv[T[1]], lm.uv[T[2]], foot) || !ccw(lm.uv[T[2]], lm.uv[T[0]], foot))
       foot = uc;
+    {
+      const geom::Vec3 q = s.point(foot.x, foot.y);
+      if (!splits_in_3d(lm.p[T[0]], lm.p[T[1]], q) || !splits_in_3d(lm.p[T[1]], lm.p[T[2]], q)) continue;
+    }
     const int n = add_point(foot, (lm.scale[T[0]] + lm.scale[T[1]] + lm.scale[T[2]]) / 3.0);
     if (n < 0) continue;
     lm.tris[t] = {T[0], T[1], n};

@@ -95,6 +95,10 @@ struct Improver {
         const double fold_old = glm::dot(unit_normal(pa, pb, pc), unit_normal(pd, pc, pb));
         const double fold_new = glm::dot(unit_normal(pa, pb, pd), unit_normal(pa, pd, pc));
         if (fold_new < std::min(fold_old, 0.8)) continue;
+        // Both new triangles face the side the old pair faced (two triangles turned over
+        // together pass the fold test; near occt_mesh_hang's fold lines they did).
+        const geom::Vec3 n_old = unit_normal(pa, pb, pc) + unit_normal(pd, pc, pb);
+        if (!(glm::dot(unit_normal(pa, pb, pd), n_old) > 0) || !(glm::dot(unit_normal(pa, pd, pc), n_old) > 0)) continue;
         // New triangles (a,b,d) in t and (a,d,c) in u; relink the four outer half-edges.
         const std::int32_t o_ab = opp[3 * t + (i + 2) % 3];  // edge a-b of t (opposite c)
         const std::int32_t o_ca = opp[3 * t + (i + 1) % 3];  // edge c-a of t (opposite b)
@@ -133,6 +137,21 @@ struct Improver {
     const geom::Vec2 duv{(G * bu - F * bv) / det, (E * bv - F * bu) / det};
     const geom::Vec2 old_uv = lm.uv[v];
     const geom::Vec3 old_p = lm.p[v];
+    // The ring's own side: the area-weighted normal of v's triangles before the move. A
+    // ring that faces away from sigma_u x sigma_v at v (v on a line where the surface
+    // folds over itself) does not move. (Judging every triangle against sigma_u x sigma_v
+    // at v instead rejected moves on occt_terrain, where a few triangles of a ring already
+    // face away: two triangles there stayed above Q 3.)
+    geom::Vec3 n0(0.0);
+    for (std::int32_t t : ring) {
+      const auto& T = lm.tris[static_cast<std::size_t>(t)];
+      n0 += glm::cross(lm.p[T[1]] - lm.p[T[0]], lm.p[T[2]] - lm.p[T[0]]);
+    }
+    if (glm::dot(n0, glm::cross(e.du, e.dv)) <= 0) return -1.0;  // the ring faces away from the surface
+    auto faces_n0 = [&](std::int32_t t) {
+      const auto& T = lm.tris[static_cast<std::size_t>(t)];
+      return glm::dot(glm::cross(lm.p[T[1]] - lm.p[T[0]], lm.p[T[2]] - lm.p[T[0]]), n0) > 0;
+    };
     for (double step : {1.0, 0.5, 0.25}) {
       lm.uv[v] = old_uv + step * duv;
       bool valid = true;
@@ -145,6 +164,17 @@ struct Improver {
       }
       if (!valid) continue;
       lm.p[v] = s.point(lm.uv[v].x, lm.uv[v].y);
+      // Every incident triangle must face the ring's side after the move: where the
+      // surface folds over itself (occt_mesh_hang: a swept tube whose normal
+      // reverses across lines where sigma_u x sigma_v vanishes) a step that is valid in
+      // (u,v) can land on the other sheet, and 3D shape alone accepted triangles turned
+      // over or flat (16 flat ones there, chordal deviation 2.5x the tolerance).
+      for (std::int32_t t : ring)
+        if (!faces_n0(t)) {
+          valid = false;
+          break;
+        }
+      if (!valid) continue;
       double qn = 1.0;
       for (std::int32_t t : ring) qn = std::min(qn, q(t));
       if (qn > floor) return qn;

@@ -67,6 +67,9 @@ struct CheckData {
   };
   std::vector<SolidTopology> solids;
   std::optional<surface::IntersectionReport> intersections;
+  /// With a model: how many of the intersecting pairs lie where the model's own surfaces
+  /// intersect (surface::pairs_intersecting_in_model): an input defect the mesh follows.
+  std::optional<std::size_t> intersections_in_model;
   surface::QualityReport quality;
   double median_edge = 0;                  ///< 3D length of the median unique edge
   surface::EdgeLengthReport edge_lengths;  ///< lengths / median_edge (bins: check3d.h)
