@@ -465,6 +465,30 @@ std::string check_tags(const SubdCage& c, const Far::TopologyLevel& lvl) {
              " which share no edge";
     if (!(k.sharpness >= 0)) return line_ref(c, k.line) + "negative crease sharpness";
   }
+  // A sharp edge on a face around an interior vertex of valence 2 (two faces glued along
+  // both of its edges) is rejected before OpenSubdiv sees it: OpenSubdiv 3.5's Bfr builds
+  // those faces' irregular patches with an unset vertex index in their crease list and
+  // Vtr::Level::findEdge reads out of bounds (fuzz_obj_cage, regression test
+  // obj_cage_crease_next_to_valence_2_vertex: a crease on 3 of the 8 edges of the two
+  // faces crashed, on the others not; all 8 are refused, the condition being narrower
+  // than what is modelled here).
+  for (int v = 0; v < lvl.GetNumVertices(); ++v) {
+    const auto vf = lvl.GetVertexFaces(v);
+    const auto ve = lvl.GetVertexEdges(v);
+    if (vf.size() != 2 || ve.size() != 2 || vf[0] == vf[1]) continue;
+    if (lvl.GetEdgeFaces(ve[0]).size() != 2 || lvl.GetEdgeFaces(ve[1]).size() != 2) continue;
+    for (const auto& k : c.creases) {
+      if (!(k.sharpness > 0)) continue;
+      const int e = lvl.FindEdge(k.a, k.b);
+      if (e < 0) continue;
+      for (int f : lvl.GetEdgeFaces(e))
+        if (f == vf[0] || f == vf[1])
+          return line_ref(c, k.line) + "crease on edge " + std::to_string(k.a) + "-" + std::to_string(k.b) +
+                 " of face " + std::to_string(f) + ", next to vertex " + std::to_string(v) +
+                 " of valence 2 (faces " + std::to_string(vf[0]) + " and " + std::to_string(vf[1]) +
+                 " share both its edges), which OpenSubdiv 3.5 cannot evaluate";
+    }
+  }
   for (const auto& k : c.corners) {
     if (k.v >= nv)
       return line_ref(c, k.line) + "corner names vertex " + std::to_string(k.v) + " but the cage has " +

@@ -147,6 +147,38 @@ TEST_CASE("robust: OBJ cage that crashes OpenSubdiv's findEdge is rejected by li
   }
 }
 
+TEST_CASE("robust: obj_cage_crease_next_to_valence_2_vertex (fuzz finding: OpenSubdiv findEdge crash)", "[robust][subd]") {
+  // fuzz_obj_cage, session 7: four quads of a broken cube in which faces 0 and 3 share
+  // both edges of vertex 0 (an interior vertex of valence 2), and a crease on edge 0-1.
+  // OpenSubdiv 3.5's Bfr read out of bounds in Vtr::Level::findEdge (SEGV, also in the
+  // Release CLI). No face repeats a vertex, so the folded-face check did not apply.
+  const std::string cube =
+      "v -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 -1\nv 1 -1 -1\n"
+      "f 1 2 4 7\nf 3 4 6 5\nf 5 6 8 7\nf 7 8 2 1\n";
+  for (auto b : {uvmesh::geom::SubdBoundary::EdgeOnly, uvmesh::geom::SubdBoundary::EdgeAndCorner}) {
+    uvmesh::geom::SubdOptions o;
+    o.scheme = uvmesh::geom::SubdScheme::CatmullClark;
+    o.boundary = b;
+    // The three creases that crashed, and one on another edge of face 0 (refused too).
+    for (const char* e : {"0 1", "0 6", "6 7", "1 3"}) {
+      INFO(e);
+      const auto r = parse_cage(cube + "t crease 2/1/0 " + e + " 3.0\n");
+      REQUIRE(r.ok);
+      const auto m = uvmesh::geom::model_from_cage(r.cage, o);
+      REQUIRE_FALSE(m.ok);
+      CHECK_THAT(m.error, Catch::Contains(":13: crease on edge") && Catch::Contains("next to vertex 0 of valence 2"));
+    }
+    // Without the crease, or with it away from those two faces, the cage is meshed.
+    for (const std::string tail : {"", "t crease 2/1/0 4 5 3.0\n"}) {
+      INFO(tail);
+      const auto r = parse_cage(cube + tail);
+      REQUIRE(r.ok);
+      const auto m = uvmesh::geom::model_from_cage(r.cage, o);
+      CHECK(m.ok);
+    }
+  }
+}
+
 TEST_CASE("robust: a PLY face_id beyond int's range is an error, not undefined behaviour (fuzz_mesh_ply)", "[robust][io]") {
   // The double was cast to int unchecked (UBSan: "2.00001e+24 is outside the range of
   // representable values of type 'int'").
