@@ -152,6 +152,12 @@ struct Improver {
       const auto& T = lm.tris[static_cast<std::size_t>(t)];
       return glm::dot(glm::cross(lm.p[T[1]] - lm.p[T[0]], lm.p[T[2]] - lm.p[T[0]]), n0) > 0;
     };
+    // Which ring triangles face that side now: only those must still face it after the
+    // move (requiring it of all blocked moves that repair a triangle already turned,
+    // and gmsh_t20_part got 4 self-intersections and a Q > 3 triangle).
+    std::uint64_t was_facing = 0;
+    for (std::size_t k = 0; k < ring.size() && k < 64; ++k)
+      if (faces_n0(ring[k])) was_facing |= std::uint64_t{1} << k;
     for (double step : {1.0, 0.5, 0.25}) {
       lm.uv[v] = old_uv + step * duv;
       bool valid = true;
@@ -164,13 +170,13 @@ struct Improver {
       }
       if (!valid) continue;
       lm.p[v] = s.point(lm.uv[v].x, lm.uv[v].y);
-      // Every incident triangle must face the ring's side after the move: where the
-      // surface folds over itself (occt_mesh_hang: a swept tube whose normal
+      // No incident triangle may turn away from the ring's side: where the surface folds
+      // over itself (occt_mesh_hang: a swept tube whose normal
       // reverses across lines where sigma_u x sigma_v vanishes) a step that is valid in
       // (u,v) can land on the other sheet, and 3D shape alone accepted triangles turned
       // over or flat (16 flat ones there, chordal deviation 2.5x the tolerance).
-      for (std::int32_t t : ring)
-        if (!faces_n0(t)) {
+      for (std::size_t k = 0; k < ring.size(); ++k)
+        if ((k >= 64 || (was_facing >> k & 1)) && !faces_n0(ring[k])) {
           valid = false;
           break;
         }
