@@ -593,6 +593,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       msg += "; not triangulated from its boundary either: " + why;
     }
     out.error = std::move(msg);
+    out.uv_defect = one_loop;  // worth the last try (mesher.cpp) when it was not this one
     return out;
   };
 

@@ -362,7 +362,10 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     const auto tf0 = Clock::now();
     std::vector<std::size_t> retry;
     for (std::size_t f = 0; f < nf; ++f)
-      if (!fm[f].error.empty() && fm[f].error == face_error[f] && twin_of[f] == geom::kNone) retry.push_back(f);
+      // Only (u,v) boundary failures: any other (no surface, a time limit) would be
+      // meshed again for nothing.
+      if (fm[f].uv_defect && !fm[f].error.empty() && fm[f].error == face_error[f] && twin_of[f] == geom::kNone)
+        retry.push_back(f);
     const std::vector<geom::Vec3>& node_points = M.points;
     parallel_indices(arena, retry.size(), [&](std::size_t k) {
       const std::size_t f = retry[k];

@@ -78,6 +78,22 @@ void accept(const std::string& file, bool closed, const surface::MeshOptions* op
   CHECK(ch.not_converged <= ch.samples / 200);
 }
 
+// The report's per-solid topology: every solid of an assembly closed and manifold on its
+// own, although interface edges carry three faces in the whole mesh.
+void check_solids_closed(const surface::SurfaceMesh& mesh, const geom::Model& m, std::size_t solids) {
+  io::CheckOptions co;
+  co.self_intersections = false;
+  co.threads = 1;
+  const io::CheckData d = io::check_mesh(mesh, &m, co);
+  REQUIRE(d.solids.size() == solids);
+  for (const auto& s : d.solids) {
+    CHECK(s.closed);
+    CHECK(s.triangles > 0);
+    CHECK(s.free_edges == 0);
+    CHECK(s.non_manifold_edges == 0);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("surface mesher: bundled bracket (planes, cylinders, fillets, holes)", "[surface]") {
@@ -106,17 +122,7 @@ TEST_CASE("surface mesher: two cubes sharing a face (non-manifold interface)", "
   // The interface's edges carry three faces in the whole mesh, but each solid on its
   // own is closed and manifold (the report's per-solid topology).
   CHECK(t.non_manifold_edges > 0);
-  io::CheckOptions co;
-  co.self_intersections = false;
-  co.threads = 1;
-  const io::CheckData d = io::check_mesh(r.mesh, &m, co);
-  REQUIRE(d.solids.size() == 2);
-  for (const auto& s : d.solids) {
-    CHECK(s.closed);
-    CHECK(s.triangles > 0);
-    CHECK(s.free_edges == 0);
-    CHECK(s.non_manifold_edges == 0);
-  }
+  check_solids_closed(r.mesh, m, 2);
 }
 
 TEST_CASE("surface mesher: seam with an inner loop touching it (gmsh_cyl_loop_seam)", "[surface]") {
@@ -280,16 +286,7 @@ TEST_CASE("surface mesher: a doubly closed face whose wire is not chained in (u,
   CHECK(r.failed.empty());
   CHECK(std::count(r.mesh.triangle_face.begin(), r.mesh.triangle_face.end(), geom::Id{0}) > 100);
   CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);
-  io::CheckOptions co;
-  co.self_intersections = false;
-  co.threads = 1;
-  const io::CheckData d = io::check_mesh(r.mesh, &m, co);
-  REQUIRE(d.solids.size() == 8);
-  for (const auto& s : d.solids) {
-    CHECK(s.closed);
-    CHECK(s.free_edges == 0);
-    CHECK(s.non_manifold_edges == 0);
-  }
+  check_solids_closed(r.mesh, m, 8);
 }
 
 TEST_CASE("surface mesher: faces whose pcurves cross are triangulated from their boundary when that is valid",
