@@ -465,28 +465,47 @@ std::string check_tags(const SubdCage& c, const Far::TopologyLevel& lvl) {
              " which share no edge";
     if (!(k.sharpness >= 0)) return line_ref(c, k.line) + "negative crease sharpness";
   }
-  // A sharp edge on a face around an interior vertex of valence 2 (two faces glued along
-  // both of its edges) is rejected before OpenSubdiv sees it: OpenSubdiv 3.5's Bfr builds
-  // those faces' irregular patches with an unset vertex index in their crease list and
-  // Vtr::Level::findEdge reads out of bounds (fuzz_obj_cage, regression test
-  // obj_cage_crease_next_to_valence_2_vertex: a crease on 3 of the 8 edges of the two
-  // faces crashed, on the others not; all 8 are refused, the condition being narrower
-  // than what is modelled here).
-  for (int v = 0; v < lvl.GetNumVertices(); ++v) {
-    const auto vf = lvl.GetVertexFaces(v);
-    const auto ve = lvl.GetVertexEdges(v);
-    if (vf.size() != 2 || ve.size() != 2 || vf[0] == vf[1]) continue;
-    if (lvl.GetEdgeFaces(ve[0]).size() != 2 || lvl.GetEdgeFaces(ve[1]).size() != 2) continue;
-    for (const auto& k : c.creases) {
-      if (!(k.sharpness > 0)) continue;
-      const int e = lvl.FindEdge(k.a, k.b);
-      if (e < 0) continue;
-      for (int f : lvl.GetEdgeFaces(e))
-        if (f == vf[0] || f == vf[1])
-          return line_ref(c, k.line) + "crease on edge " + std::to_string(k.a) + "-" + std::to_string(k.b) +
-                 " of face " + std::to_string(f) + ", next to vertex " + std::to_string(v) +
-                 " of valence 2 (faces " + std::to_string(vf[0]) + " and " + std::to_string(vf[1]) +
-                 " share both its edges), which OpenSubdiv 3.5 cannot evaluate";
+  // A sharp edge touching a face that folds onto another face around one of its corners
+  // is rejected before OpenSubdiv sees it. Faces f and g "fold" at vertex v when g holds
+  // both edges of f at v: the manifold subset of f at v is then an interior vertex of
+  // valence 2, OpenSubdiv 3.5's Bfr assembles f's irregular patch from a map of the
+  // mesh indices (its control faces overlap), and with a sharp edge around any corner of
+  // f its crease list gets an index that is not in that map, so Vtr::Level::findEdge
+  // reads out of bounds (SEGV, also in the Release CLI). fuzz_obj_cage found it twice:
+  // obj_cage_crease_next_to_valence_2_vertex (v has only those two faces) and
+  // obj_cage_crease_at_nonmanifold_valence_2_fan (v also has a third face, a second fan,
+  // so a test of v's global valence misses it). The refusal is conservative: any crease
+  // with an end point on such a face is refused, while only some of them crash.
+  if (!c.creases.empty()) {
+    for (int f = 0; f < lvl.GetNumFaces(); ++f) {
+      const auto fv = lvl.GetFaceVertices(f);
+      const auto fe = lvl.GetFaceEdges(f);
+      const int n = fv.size();
+      int fold_v = -1, fold_g = -1;
+      for (int i = 0; i < n && fold_v < 0; ++i) {
+        const int ep = fe[(i + n - 1) % n], en = fe[i];
+        if (ep == en) continue;
+        for (int g : lvl.GetEdgeFaces(ep)) {
+          if (g == f) continue;
+          const auto gf = lvl.GetEdgeFaces(en);
+          if (std::find(gf.begin(), gf.end(), g) != gf.end()) {
+            fold_v = fv[i];
+            fold_g = g;
+            break;
+          }
+        }
+      }
+      if (fold_v < 0) continue;
+      for (const auto& k : c.creases) {
+        if (!(k.sharpness > 0)) continue;
+        if (std::find(fv.begin(), fv.end(), k.a) == fv.end() && std::find(fv.begin(), fv.end(), k.b) == fv.end())
+          continue;
+        return line_ref(c, k.line) + "crease on edge " + std::to_string(k.a) + "-" + std::to_string(k.b) +
+               " touches face " + std::to_string(f) + ", which folds onto face " + std::to_string(fold_g) +
+               " at vertex " + std::to_string(fold_v) +
+               " (the two faces share both its edges: an interior vertex of valence 2 on their side),"
+               " which OpenSubdiv 3.5 cannot evaluate with creases";
+      }
     }
   }
   for (const auto& k : c.corners) {

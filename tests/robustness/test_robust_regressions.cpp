@@ -166,7 +166,8 @@ TEST_CASE("robust: obj_cage_crease_next_to_valence_2_vertex (fuzz finding: OpenS
       REQUIRE(r.ok);
       const auto m = uvmesh::geom::model_from_cage(r.cage, o);
       REQUIRE_FALSE(m.ok);
-      CHECK_THAT(m.error, Catch::Contains(":13: crease on edge") && Catch::Contains("next to vertex 0 of valence 2"));
+      CHECK_THAT(m.error, Catch::Contains(":13: crease on edge") &&
+                              Catch::Contains("touches face 0, which folds onto face 3 at vertex 0"));
     }
     // Without the crease, or with it away from those two faces, the cage is meshed.
     for (const std::string tail : {"", "t crease 2/1/0 4 5 3.0\n"}) {
@@ -176,6 +177,36 @@ TEST_CASE("robust: obj_cage_crease_next_to_valence_2_vertex (fuzz finding: OpenS
       const auto m = uvmesh::geom::model_from_cage(r.cage, o);
       CHECK(m.ok);
     }
+  }
+}
+
+TEST_CASE("robust: obj_cage_crease_at_nonmanifold_valence_2_fan (fuzz finding: OpenSubdiv findEdge crash)", "[robust][subd]") {
+  // fuzz_obj_cage, session 8: a cube whose six quads are wired so that faces 0 and 3
+  // share both edges of vertex 0, while a third face (5) touches vertex 0 as a second
+  // fan. Vertex 0 has three faces and four edges, so the valence test of
+  // obj_cage_crease_next_to_valence_2_vertex missed it; OpenSubdiv 3.5 crashed the same
+  // way (SEGV in Vtr::Level::findEdge, also in the Release CLI) for creases on 0-1, 0-6
+  // and 6-7.
+  const std::string cube =
+      "v -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 -1\nv 1 -1 -1\n"
+      "f 1 2 4 7\nf 3 4 6 5\nf 5 6 8 7\nf 7 8 2 1\nf 2 8 6 3\nf 4 1 3 5\n";
+  uvmesh::geom::SubdOptions o;
+  o.scheme = uvmesh::geom::SubdScheme::CatmullClark;
+  for (const char* e : {"0 1", "0 6", "6 7"}) {
+    INFO(e);
+    const auto r = parse_cage(cube + "t crease 2/1/0 " + e + " 3.0\n");
+    REQUIRE(r.ok);
+    const auto m = uvmesh::geom::model_from_cage(r.cage, o);
+    REQUIRE_FALSE(m.ok);
+    CHECK_THAT(m.error, Catch::Contains(":15: crease on edge") && Catch::Contains("folds onto face") &&
+                            Catch::Contains("at vertex 0"));
+  }
+  // Away from the two folded faces the crease is kept and the cage is meshed.
+  for (const std::string tail : {"", "t crease 2/1/0 4 5 3.0\n"}) {
+    INFO(tail);
+    const auto r = parse_cage(cube + tail);
+    REQUIRE(r.ok);
+    CHECK(uvmesh::geom::model_from_cage(r.cage, o).ok);
   }
 }
 
