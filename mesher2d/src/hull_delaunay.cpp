@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "huge_pages.h"
 #include "predicates_filter.h"
 #include "triangulation.h"
 
@@ -99,7 +100,9 @@ void brio_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec) {
   const int rounds = std::clamp(lg - 8, 1, 15);
   constexpr int kHigh = 52;  // the top digit: key bits 20..29 (record bits 52..61)
   std::vector<std::uint32_t> cnt(1025, 0u);
-  std::vector<std::uint64_t> tmp(n);
+  std::vector<std::uint64_t> tmp;
+  reserve_huge(tmp, n);
+  tmp.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t h = hilbert16(q((in[i].x - xmin) * sx), q((in[i].y - ymin) * sy)) >> 6;
     const int level = std::min(std::countr_zero(mix64(i) | 1ull << 62), rounds - 1);
@@ -127,6 +130,7 @@ void brio_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec) {
     }
   };
   for (std::size_t b = 1; b <= 1024; ++b) cnt[b] += cnt[b - 1];  // cnt[b]: start of bucket b
+  reserve_huge(rec, n);
   rec.resize(n);
   if (n < (std::size_t{1} << 18)) {
     // Everything is in cache (2 MB at most): LSD passes all through, the last one by the
@@ -161,6 +165,9 @@ HullDelaunay::Status HullDelaunay::build(const std::vector<Vec2>& in) {
   // the gather and the scatter are the only random accesses, to the same index, both
   // prefetched a few points ahead (the scatter was a separate pass of the output, 60% of
   // its time at 1e6 points).
+  reserve_huge(pts, n + 1);
+  reserve_huge(src, n);
+  reserve_huge(vert_of, n);
   pts.resize(n + 1);
   src.resize(n);
   vert_of.resize(n);
@@ -191,7 +198,7 @@ HullDelaunay::Status HullDelaunay::build(const std::vector<Vec2>& in) {
   while (v2 < nv && (o = orient(pts[0], pts[v1], pts[v2])) == 0) ++v2;
   if (v2 >= nv) return Status::Collinear;
   const VertId a = 0, b = o > 0 ? v1 : v2, c = o > 0 ? v2 : v1, G = ghost_id;
-  tris.reserve(2 * n + 8);
+  reserve_huge(tris, 2 * n + 8);
   // t0 = (a, b, c) counter-clockwise; ghosts (b, a, G), (c, b, G), (a, c, G) across its
   // edges 2, 0, 1; each ghost meets the next one around the hull at G.
   tris.push_back({{a, b, c}, {4 * 2 + 2, 4 * 3 + 2, 4 * 1 + 2}});

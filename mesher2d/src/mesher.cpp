@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_set>
 
+#include "huge_pages.h"
 #include "key_set.h"
 #include "metric_util.h"
 #include "triangulation.h"
@@ -98,8 +99,11 @@ double q_inv(Vec2 a, Vec2 b, Vec2 c) {
   const double ca2 = (a.x - c.x) * (a.x - c.x) + (a.y - c.y) * (a.y - c.y);
   const double area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
   if (!(area2 > 0)) return area2 == 0 ? 0.0 : -1.0;
-  const double per = std::sqrt(ab2) + std::sqrt(bc2) + std::sqrt(ca2);
-  const double hmax = std::sqrt(std::max({ab2, bc2, ca2}));
+  // sqrt is correctly rounded and monotone: the longest edge's length is the largest of
+  // the three roots, bit for bit what sqrt(max(ab2, bc2, ca2)) gave, one sqrt fewer.
+  const double ab = std::sqrt(ab2), bc = std::sqrt(bc2), ca = std::sqrt(ca2);
+  const double per = ab + bc + ca;
+  const double hmax = std::max({ab, bc, ca});
   return area2 / (per * hmax * 0.28867513459481287);
 }
 
@@ -634,7 +638,7 @@ class Mesher {
     // Triangles and hull edges in one pass; a ghost (a, b, G) stands for the hull edge
     // b -> a of the triangle inside.
     const std::size_t nt = dh.tris.size();
-    M.triangles.reserve(nt);
+    detail::reserve_huge(M.triangles, nt);
     auto emit = [&](auto id) {
       for (std::size_t t = 0; t < nt; ++t) {
         const auto& r = dh.tris[t];
@@ -922,8 +926,10 @@ class Mesher {
       // Room for the points to come (about the area over a lattice cell), so that the
       // arrays do not grow by reallocation while they are inserted.
       const auto nv = static_cast<std::size_t>(tri_.num_verts()) + static_cast<std::size_t>(0.55 * area2 / (h * dy)) + 1024;
-      tri_.pts.reserve(nv), tri_.vtri.reserve(nv);
-      tri_.tv.reserve(6 * nv), tri_.opp.reserve(6 * nv), tri_.seg.reserve(6 * nv), tri_.tag.reserve(2 * nv);
+      // Huge pages where the kernel allows them (huge_pages.h: fewer TLB misses and page faults).
+      detail::reserve_huge(tri_.pts, nv), detail::reserve_huge(tri_.vtri, nv);
+      detail::reserve_huge(tri_.tv, 6 * nv), detail::reserve_huge(tri_.opp, 6 * nv);
+      detail::reserve_huge(tri_.seg, 6 * nv), detail::reserve_huge(tri_.tag, 2 * nv);
       vm_.reserve(nv), rs_.reserve(nv), fixed_.reserve(nv), vmark_.reserve(nv);
     }
     InsertParams prm;
@@ -2363,10 +2369,10 @@ class Mesher {
         for (int i = 0; i < 3; ++i) used[tri_.tv[3 * t + i]] = 1;
       }
     // Sized once: a million-triangle mesh otherwise grows every array by doubling.
-    M.vertices.reserve(M.vertices.size() + static_cast<std::size_t>(nv));
+    detail::reserve_huge(M.vertices, M.vertices.size() + static_cast<std::size_t>(nv));
     M.vertex_markers.reserve(M.vertex_markers.size() + static_cast<std::size_t>(nv));
     if (vm_.size() == tri_.pts.size()) M.vertex_metric.reserve(M.vertex_metric.size() + static_cast<std::size_t>(nv));
-    M.triangles.reserve(M.triangles.size() + ndom);
+    detail::reserve_huge(M.triangles, M.triangles.size() + ndom);
     M.triangle_region.reserve(M.triangle_region.size() + ndom);
     M.triangle_attribute.reserve(M.triangle_attribute.size() + ndom);
     if (opt_.measure) edges_.reserve(edges_.size() + 3 * ndom / 2 + static_cast<std::size_t>(nv));
