@@ -140,7 +140,7 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
   return kNone;
 }
 
-bool Triangulation::in_cavity_metric(TriId t, Vec2 p, const InsertParams& prm) const {
+bool Triangulation::in_cavity_metric(TriId t, Vec2 p, const InsertParams& /*prm: its frame is frame_*/) const {
   const Vec2& a = pts[tv[3 * t]];
   const Vec2& b = pts[tv[3 * t + 1]];
   const Vec2& c = pts[tv[3 * t + 2]];
@@ -148,9 +148,9 @@ bool Triangulation::in_cavity_metric(TriId t, Vec2 p, const InsertParams& prm) c
   // (x -> R x with M = R^T R, R upper triangular with a positive diagonal, so orientation is
   // kept) the metric circumcircle of K is the Euclidean one, and alpha_M(P)(P,K) < 1 is an
   // incircle test. Coordinates are taken relative to P to keep the rounding local.
-  const double l11 = std::sqrt(prm.m.m11);
-  const double l12 = prm.m.m12 / l11;
-  const double l22 = std::sqrt(std::max(prm.m.m22 - l12 * l12, 1e-300));
+  // R is factored once per insertion (insert_located sets frame_), not once per tested
+  // triangle: two square roots and a division fewer on every cavity test.
+  const double l11 = frame_[0], l12 = frame_[1], l22 = frame_[2];
   auto tr = [&](const Vec2& q) {
     const double dx = q.x - p.x, dy = q.y - p.y;
     return Vec2{l11 * dx + l12 * dy, l22 * dy};
@@ -188,6 +188,12 @@ InsertResult Triangulation::insert_point_located(Vec2 p, TriId t0, const double*
 
 InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0, const InsertParams& prm) {
   const Vec2 p = pts[v];
+  if (prm.use_metric) {
+    // M(P) = R^T R, R = [[l11, l12], [0, l22]]: the frame of in_cavity_metric's test.
+    const double l11 = std::sqrt(prm.m.m11);
+    const double l12 = prm.m.m12 / l11;
+    frame_ = {l11, l12, std::sqrt(std::max(prm.m.m22 - l12 * l12, 1e-300))};
+  }
   if (o0[0] != 0 && o0[1] != 0 && o0[2] != 0 && cavity_unmarked(t0, p, prm))
     return make_ball(v, t0, prm, fcav_.data(), fnc_, fbd_.data(), fm_);
   if (mark_.size() < static_cast<std::size_t>(num_tris()) + 8) mark_.resize(2 * num_tris() + 8, 0);

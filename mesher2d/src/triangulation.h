@@ -170,6 +170,7 @@ class Triangulation {
     return pred::detail::incircle_filtered(&a.x, &b.x, &c.x, &p.x) > 0;
   }
   bool in_cavity_metric(TriId t, Vec2 p, const InsertParams& prm) const;
+  std::array<double, 3> frame_{1, 0, 1};  // the insertion's R (M(P) = R^T R), see insert_located
   struct BoundaryEdge {
     VertId a, b;
     std::int32_t out, s;
