@@ -30,10 +30,13 @@
 #include <TColStd_SequenceOfAsciiString.hxx>
 #include <TCollection_HAsciiString.hxx>
 #include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Iterator.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TransferBRep.hxx>
 #include <Transfer_TransientProcess.hxx>
@@ -43,6 +46,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -109,6 +113,92 @@ Counts count(const TopoDS_Shape& s) {
     ++c.free_edges;
   }
   return c;
+}
+
+// The pieces of a model the `conform` step sees: the solids (compsolids as one), which are
+// fused, and the faces that are in no solid, which are kept (as their shell when no face
+// of the shell is in a solid or already taken, else one by one). A file may list a solid's
+// shell or faces again next to it (gmsh_ellipses: 15 solids and 66 such pieces): those
+// are the solid's, not loose. Wires, edges and vertices carry nothing to mesh.
+void collect_conform_pieces(const TopoDS_Shape& shape, TopTools_ListOfShape& solids, TopTools_ListOfShape& loose) {
+  std::vector<TopoDS_Shape> others;
+  std::function<void(const TopoDS_Shape&)> walk = [&](const TopoDS_Shape& s) {
+    switch (s.ShapeType()) {
+      case TopAbs_COMPOUND:
+        for (TopoDS_Iterator it(s); it.More(); it.Next()) walk(it.Value());
+        break;
+      case TopAbs_COMPSOLID:
+      case TopAbs_SOLID:
+        solids.Append(s);
+        break;
+      case TopAbs_SHELL:
+      case TopAbs_FACE:
+        others.push_back(s);
+        break;
+      default:
+        break;
+    }
+  };
+  walk(shape);
+  TopTools_IndexedMapOfShape taken;  // faces of the solids, then of the loose pieces kept
+  for (const TopoDS_Shape& so : solids) TopExp::MapShapes(so, TopAbs_FACE, taken);
+  for (const TopoDS_Shape& o : others) {
+    TopTools_IndexedMapOfShape faces;
+    TopExp::MapShapes(o, TopAbs_FACE, faces);
+    int free_faces = 0;
+    for (int i = 1; i <= faces.Extent(); ++i)
+      if (!taken.Contains(faces(i))) ++free_faces;
+    if (free_faces == faces.Extent()) {
+      if (free_faces > 0) loose.Append(o);
+    } else {
+      for (int i = 1; i <= faces.Extent(); ++i)
+        if (!taken.Contains(faces(i))) loose.Append(faces(i));
+    }
+    for (int i = 1; i <= faces.Extent(); ++i) taken.Add(faces(i));
+  }
+}
+
+// Solids with a free edge: an edge (not degenerate) that the faces of the solid use once
+// in all, as FORWARD or REVERSED. A seam is used twice by its face; INTERNAL and EXTERNAL
+// uses (an imprint inside a face) bound nothing and are not counted.
+int count_open_solids(const TopoDS_Shape& s) {
+  TopTools_IndexedMapOfShape solids;
+  TopExp::MapShapes(s, TopAbs_SOLID, solids);
+  int open = 0;
+  for (int i = 1; i <= solids.Extent(); ++i) {
+    TopTools_IndexedMapOfShape edges;
+    std::vector<int> uses;
+    for (TopExp_Explorer fx(solids(i), TopAbs_FACE); fx.More(); fx.Next())
+      for (TopExp_Explorer ex(fx.Current(), TopAbs_EDGE); ex.More(); ex.Next()) {
+        const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+        if (BRep_Tool::Degenerated(e)) continue;
+        if (e.Orientation() != TopAbs_FORWARD && e.Orientation() != TopAbs_REVERSED) continue;
+        const int k = edges.Add(e);
+        if (k > static_cast<int>(uses.size())) uses.resize(static_cast<std::size_t>(k), 0);
+        ++uses[static_cast<std::size_t>(k - 1)];
+      }
+    if (std::find(uses.begin(), uses.end(), 1) != uses.end()) ++open;
+  }
+  return open;
+}
+
+// The distinct alerts (warnings and errors) of a boolean operation, by type name with
+// their counts: "BOPAlgo_AlertTooSmallEdge x44, ...".
+std::string fuse_alerts(const BRepAlgoAPI_BuilderAlgo& op) {
+  std::ostringstream dump;
+  op.DumpErrors(dump);
+  op.DumpWarnings(dump);
+  std::vector<std::pair<std::string, int>> seen;
+  std::istringstream in(dump.str());
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty()) continue;
+    auto it = std::find_if(seen.begin(), seen.end(), [&](const auto& p) { return p.first == line; });
+    if (it == seen.end()) seen.emplace_back(line, 1);
+    else ++it->second;
+  }
+  std::string out;
+  for (const auto& [name, n] : seen) out += (out.empty() ? "" : ", ") + name + " x" + std::to_string(n);
+  return out;
 }
 
 // Length of the shortest non-degenerate edge (the sewing tolerance stays well below it).
@@ -508,10 +598,14 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     if (opt.conform && c0.solids > 1) {
       stage = "making the assembly conforming (general fuse)";
       const auto ts = Clock::now();
-      TopTools_IndexedMapOfShape solids;
-      TopExp::MapShapes(shape, TopAbs_SOLID, solids);
-      TopTools_ListOfShape args;
-      for (int i = 1; i <= solids.Extent(); ++i) args.Append(solids(i));
+      // The solids are fused; the shells and faces that belong to no solid are kept as they
+      // are, next to the result. Fusing the solids and returning the fuse's result alone
+      // dropped everything else: occt_caxif_k1 (5 solids, 9 open shells, 4 loose faces) lost
+      // 50 of its 94 faces, and its bounding box shrank from 52.6 to 35.7 cm. They are not
+      // fused themselves: `conform` imprints touching solids on each other (what volume
+      // meshing needs); a surface crossing a solid is the model's, and is reported as such.
+      TopTools_ListOfShape args, loose;
+      collect_conform_pieces(shape, args, loose);
       BRepAlgoAPI_BuilderAlgo fuse;
       fuse.SetArguments(args);
       fuse.SetRunParallel(Standard_False);
@@ -520,12 +614,33 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
       fuse.SetFuzzyValue(1e-7 * diagonal(shape));
       fuse.Build();
       HealStep h;
+      const std::string pieces = std::to_string(args.Extent()) + " solids" +
+                                 (loose.IsEmpty() ? std::string()
+                                                  : " (" + std::to_string(loose.Extent()) +
+                                                        " shells or faces outside them kept as they are)");
+      TopoDS_Shape out;
       if (fuse.IsDone() && !fuse.HasErrors()) {
-        const TopoDS_Shape out = fuse.Shape();
+        out = fuse.Shape();
+        if (!loose.IsEmpty()) {
+          TopoDS_Compound all;
+          BRep_Builder b;
+          b.MakeCompound(all);
+          b.Add(all, out);
+          for (const TopoDS_Shape& l : loose) b.Add(all, l);
+          out = all;
+        }
+      }
+      // The fuse must not open a solid: a closed solid must give a closed surface mesh. On
+      // occt_caxif_k1 the fuse "succeeds" with alerts (intersection of a pair of shapes
+      // failed, unable to orient a shape) and returns two solids with three free edges
+      // each, that the input did not have, plus a 2-face solid of volume 2e-6 mm^3.
+      const int open_before = count_open_solids(shape);
+      const int open_after = out.IsNull() ? 0 : count_open_solids(out);
+      if (!out.IsNull() && open_after <= open_before) {
         const Counts c1 = count(out);
         h = make_step("conform", c0, c1);
         h.applied = true;
-        h.detail = "general fuse of " + std::to_string(solids.Extent()) + " solids: " + counts_text(h);
+        h.detail = "general fuse of " + pieces + ": " + counts_text(h);
         shape = out;
         c0 = c1;
         names.follow([&](const TopoDS_Shape& s) {
@@ -536,7 +651,15 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
         });
       } else {
         h = make_step("conform", c0, c0);
-        h.detail = "general fuse failed; the assembly is left non-conforming";
+        std::ostringstream os;
+        if (out.IsNull()) os << "general fuse of " << pieces << " failed";
+        else
+          os << "general fuse of " << pieces << " not kept: it would leave " << open_after
+             << " solid(s) with free edges, the input has " << open_before;
+        const std::string alerts = fuse_alerts(fuse);
+        if (!alerts.empty()) os << " (OCC alerts: " << alerts << ")";
+        os << "; the assembly is left non-conforming";
+        h.detail = os.str();
         res.report.warnings.push_back(h.detail);
       }
       h.name = "conform";

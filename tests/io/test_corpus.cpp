@@ -226,6 +226,32 @@ TEST_CASE("corpus: --conform imprints touching solids on each other", "[io][corp
   CHECK(reported);
 }
 
+TEST_CASE("corpus: --conform keeps the shells and faces outside the solids and refuses a fuse that opens a solid (occt_caxif_k1)",
+          "[io][corpus][conform]") {
+  // occt_caxif_k1: 5 closed solids, 9 open shells and 4 loose faces. The general fuse of
+  // the solids used to be the whole result: 50 of the 94 faces were dropped without a word
+  // and the bounding box shrank from 52.6 to 35.7 cm. The fuse itself, on these solids,
+  // returns two solids with free edges the input does not have (OCC alerts: intersection of
+  // a pair of shapes failed, unable to orient): it is refused with a warning.
+  const Run plain = run("info --json --no-heal " + kData + "/cad/occt_caxif_k1.stp");
+  const Run x = run("info --json --conform " + kData + "/cad/occt_caxif_k1.stp");
+  REQUIRE(plain.rc == 0);
+  REQUIRE(x.rc == 0);
+  const json p = json::parse(plain.out);
+  const json j = json::parse(x.out);
+  CHECK(j["counts"]["faces"] == p["counts"]["faces"]);
+  CHECK(j["counts"]["solids"] == p["counts"]["solids"]);
+  CHECK(j["bbox"]["diagonal"].get<double>() == Approx(p["bbox"]["diagonal"].get<double>()).epsilon(1e-6));
+  bool refused = false;
+  for (const json& s : j["healing"]["steps"])
+    if (s["name"] == "conform") refused = !s["applied"].get<bool>();
+  CHECK(refused);
+  bool warned = false;
+  for (const json& w : j["warnings"])
+    if (w.get<std::string>().find("not kept: it would leave 2 solid(s) with free edges") != std::string::npos) warned = true;
+  CHECK(warned);
+}
+
 TEST_CASE("bad inputs: each gives its clean error or loads, never a crash", "[io][bad]") {
   // Expected outcome per file, from MANIFEST's `expect:` notes. Errors: substring of the
   // message. Loads: the counts.
