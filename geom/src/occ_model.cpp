@@ -6,6 +6,8 @@
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepCheck.hxx>
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepCheck_ListOfStatus.hxx>
 #include <BRepCheck_Result.hxx>
@@ -206,6 +208,36 @@ std::string check_reason(const BRepCheck_Analyzer& an, const TopoDS_Face& f) {
   for (TopExp_Explorer ex(f, TopAbs_VERTEX); ex.More(); ex.Next())
     if (std::string s = first_bad(ex.Current()); !s.empty()) return "vertex: " + s;
   return "invalid (BRepCheck)";
+}
+
+// Why a face with an open wire is degenerate (Face::degenerate), or "" when it is not: its area A is at
+// most its boundary length P times the largest tolerance T of its boundary edges and
+// vertices, i.e. its mean width 2A/P is at most 2T: the whole face lies within the
+// tolerance tube of its own boundary. occt_caxif_k1 has eight such faces: one B-spline
+// edge of 2.56 mm, tolerance 0.046 mm, whose ends are 1.64 mm apart (the wire is open),
+// bounding 0.0109 mm^2 (mean width 0.0085 mm); meshing them failed, or gave needles
+// that deviated from the surface.
+std::string degenerate_face_reason(const TopoDS_Face& f) {
+  double perimeter = 0.0, tol = BRep_Tool::Tolerance(f);
+  for (TopExp_Explorer ex(f, TopAbs_EDGE); ex.More(); ex.Next()) {
+    const TopoDS_Edge& e = TopoDS::Edge(ex.Current());
+    tol = std::max(tol, BRep_Tool::Tolerance(e));
+    if (BRep_Tool::Degenerated(e)) continue;
+    GProp_GProps g;
+    BRepGProp::LinearProperties(e, g);
+    perimeter += g.Mass();
+  }
+  for (TopExp_Explorer ex(f, TopAbs_VERTEX); ex.More(); ex.Next())
+    tol = std::max(tol, BRep_Tool::Tolerance(TopoDS::Vertex(ex.Current())));
+  GProp_GProps g;
+  BRepGProp::SurfaceProperties(f, g);
+  const double area = std::abs(g.Mass());
+  if (!(area <= perimeter * tol)) return {};
+  std::ostringstream os;
+  os << "area " << area << " within its boundary's tolerance tube (boundary length " << perimeter
+     << ", tolerance " << tol << ": mean width " << (perimeter > 0 ? 2 * area / perimeter : 0.0) << " <= "
+     << 2 * tol << "; its wire is open)";
+  return os.str();
 }
 
 // The pcurve of one use of a seam edge, to compare with the other use's.
@@ -432,6 +464,14 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
         fc.valid = an.IsValid();
         if (!fc.valid) fc.invalid_reason = check_reason(an, face0);
       }
+      bool open_wire = false;
+      for (TopoDS_Iterator wit(ff); wit.More(); wit.Next())
+        if (wit.Value().ShapeType() == TopAbs_WIRE && !BRep_Tool::IsClosed(wit.Value())) open_wire = true;
+      // Only a face with an open wire: a closed one around a sliver (occt_caxif_b1's strips
+      // between two copies of one curve, narrower than their tolerances) still closes its
+      // solid between those two curves, and is meshed.
+      if (open_wire) fc.degenerate_reason = degenerate_face_reason(ff);
+      fc.degenerate = !fc.degenerate_reason.empty();
     }
 
     m.shells.resize(static_cast<std::size_t>(shmap.Extent()));

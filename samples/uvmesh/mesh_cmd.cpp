@@ -279,6 +279,9 @@ int run_mesh(const MeshFlags& f) {
   }
 
   for (const auto& ff : r.failed) std::cerr << "uvmesh: face " << ff.face << " not meshed: " << ff.reason << "\n";
+  if (!f.quiet)
+    for (const auto& d : r.degenerate)
+      std::cerr << "uvmesh: face " << d.face << " not meshed, degenerate in the model: " << d.reason << "\n";
 
   // ---- report
   std::size_t free_edges = 0, nonman = 0;
@@ -322,6 +325,16 @@ int run_mesh(const MeshFlags& f) {
     nlohmann::json tw = nlohmann::json::array();
     for (const auto& [a, b] : r.twins) tw.push_back({{"face", a}, {"meshed_as", b}});
     j["coincident_faces"] = tw;
+    nlohmann::json dg = nlohmann::json::array();
+    for (const auto& d : r.degenerate) dg.push_back({{"face", d.face}, {"reason", d.reason}});
+    j["degenerate_faces"] = dg;
+    j["counts"]["faces_degenerate"] = r.degenerate.size();
+    // What reading and healing did to the file (uvmesh info shows the same): a refused
+    // step (an assembly left non-conforming) changes what the mesh can be.
+    nlohmann::json heal = nlohmann::json::array();
+    for (const auto& h : rr.report.healing)
+      heal.push_back({{"name", h.name}, {"applied", h.applied}, {"detail", h.detail}});
+    j["read"] = {{"warnings", rr.report.warnings}, {"healing", heal}};
     sec["checks"] = since(t0);
     sec["total"] = since(t_all);
     j["seconds"] = sec;
@@ -344,8 +357,9 @@ int run_mesh(const MeshFlags& f) {
 
   if (!f.quiet) {
     std::cerr << "uvmesh: " << f.out << ": " << r.mesh.points.size() << " points, " << r.mesh.triangles.size()
-              << " triangles, " << model.faces.size() - r.failed.size() << "/" << model.faces.size()
+              << " triangles, " << model.faces.size() - r.failed.size() - r.degenerate.size() << "/" << model.faces.size()
               << " faces meshed in " << t_mesh << " s";
+    if (!r.degenerate.empty()) std::cerr << " (" << r.degenerate.size() << " degenerate)";
     if (!f.report.empty()) std::cerr << ", " << free_edges << " free / " << nonman << " non-manifold edges";
     std::cerr << "\n";
   }

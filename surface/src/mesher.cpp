@@ -95,6 +95,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   // a crossing round meshes the faces again (stage 2).
   auto build_field = [&](std::size_t f) {
     const geom::Face& face = m.faces[f];
+    if (face.degenerate) return;  // not meshed (geom::Face::degenerate); no field, no error
     if (!face.surface) {
       face_error[f] = "the face has no surface (kind " + std::string(geom::to_string(face.kind)) + ")";
       return;
@@ -115,7 +116,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   {
     std::map<std::vector<geom::Id>, std::vector<std::size_t>> by_edges;
     for (std::size_t f = 0; f < nf; ++f) {
-      if (!face_error[f].empty()) continue;
+      if (!face_error[f].empty() || m.faces[f].degenerate) continue;
       std::vector<geom::Id> k;
       for (const geom::Loop& l : m.faces[f].loops)
         for (const geom::EdgeUse& u : l.uses) k.push_back(u.edge);
@@ -312,7 +313,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   std::atomic<int> done{0};
   const std::vector<geom::Vec3>& node_points = M.points;
   parallel_indices(arena, nf, [&](std::size_t f) {
-    if (!face_error[f].empty() || twin_of[f] != geom::kNone) return;
+    if (!face_error[f].empty() || twin_of[f] != geom::kNone || m.faces[f].degenerate) return;
     const auto tf = Clock::now();
     // A face's size field lives while its face is meshed only (memory: one grid per face
     // of a model with thousands of faces); a later crossing round builds it again.
@@ -402,7 +403,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   {
     std::size_t add_points = 0, add_tris = 0;
     for (std::size_t f = 0; f < nf; ++f)
-      if (face_error[f].empty() && twin_of[f] == geom::kNone) add_points += fm[f].points.size(), add_tris += fm[f].tris.size();
+      if (face_error[f].empty() && twin_of[f] == geom::kNone && !m.faces[f].degenerate) add_points += fm[f].points.size(), add_tris += fm[f].tris.size();
     M.points.reserve(M.points.size() + add_points);
     M.point_dim.reserve(M.points.capacity());
     M.point_entity.reserve(M.points.capacity());
@@ -419,6 +420,10 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     if (!face_error[f].empty()) {
       res.failed.push_back({static_cast<geom::Id>(f), face_error[f]});
       fm[f] = {};
+      continue;
+    }
+    if (m.faces[f].degenerate) {
+      res.degenerate.push_back({static_cast<geom::Id>(f), m.faces[f].degenerate_reason});
       continue;
     }
     if (twin_of[f] != geom::kNone) continue;

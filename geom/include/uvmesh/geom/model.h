@@ -72,6 +72,13 @@ struct Face {
   Box2 uv_box;        ///< box of the loops in (u,v)
   bool valid = true;  ///< CAD validity (OCC BRepCheck) when checked
   std::string invalid_reason;
+  /// The face has no extent the model's own tolerances can resolve: its area is at most
+  /// its boundary length times the largest tolerance of its boundary edges and vertices
+  /// (it lies inside the tolerance tube of its boundary). Such a face is not meshed and is
+  /// reported with `degenerate_reason` (surface::MeshResult::degenerate). Tested on faces
+  /// with an open wire only: a closed wire around a sliver still closes its shell.
+  bool degenerate = false;
+  std::string degenerate_reason;
   Id shell = kNone;  ///< first shell containing the face, kNone for a loose face
   std::string name;  ///< the CAD system's name (STEP entity name), "" when it has none
 };

@@ -111,6 +111,10 @@ struct MeshResult {
   /// Coincident faces (same edges, same surface): {face, the face meshed for it}. The
   /// first is not meshed; the second's triangles stand for both.
   std::vector<std::pair<geom::Id, geom::Id>> twins;
+  /// Faces not meshed because they lie within the tolerance tube of their own boundary
+  /// (geom::Face::degenerate), with the measurements that say so. Not failures: by the
+  /// model's own tolerances such a face is a curve, not a surface.
+  std::vector<FaceFailure> degenerate;
   bool ok() const { return failed.empty(); }
   /// Share of unit edges over all faces (FaceStats::unit_edges / edges).
   double unit_edge_share() const;
