@@ -42,16 +42,36 @@ class SubdSurface final : public Surface {
   SubdSurface(std::shared_ptr<const BasePatch> b, Vec2 origin, double scale, bool diff_everywhere = false)
       : b_(std::move(b)), o_(origin), k_(scale), regular_(b_->s.IsRegular()), diff_all_(diff_everywhere) {}
 
-  SurfacePoint eval(double u, double v) const override {
+  SurfacePoint eval(double u, double v) const override { return evaluate(u, v, true); }
+  // Without second derivatives Bfr combines three point sets instead of six (the induced
+  // metric asks for this: most of the metric grids' evaluations).
+  SurfacePoint eval_first(double u, double v) const override { return evaluate(u, v, false); }
+  // Positions only (one Bfr combination instead of six): the mesher maps every new
+  // (u,v) vertex, and the 3D smoothing and the projections try many, through point().
+  Vec3 point(double u, double v) const override {
+    const Vec2 c = clamp({u, v});
+    if (c.x != u || c.y != v) return evaluate(u, v, false).p;  // the first-order extension outside
+    return pos(c);
+  }
+  Box2 bounds() const override { return {{0.0, 1.0}, {0.0, 1.0}}; }
+  SurfaceKind kind() const override { return SurfaceKind::Other; }
+  unsigned singular_sides() const override { return sing_; }
+  Vec2 origin() const { return o_; }
+  double scale() const { return k_; }
+  void set_singular_sides(unsigned s) { sing_ = s; }
+
+ private:
+  SurfacePoint evaluate(double u, double v, bool second) const {
     // Bfr evaluates inside the face's domain only (irregular patches look the point up
     // in a quadtree of sub-patches). The mesher and the chordal projection may ask a
     // little outside (metric grids over the box, line searches): the point is then
     // extended to first order from the nearest domain point, which keeps sigma
     // continuous and exact inside.
     const Vec2 c = clamp({u, v});
-    double P[3], Du[3], Dv[3], Duu[3], Duv[3], Dvv[3];
+    double P[3], Du[3], Dv[3], Duu[3] = {0, 0, 0}, Duv[3] = {0, 0, 0}, Dvv[3] = {0, 0, 0};
     const double uv[2] = {o_.x + k_ * c.x, o_.y + k_ * c.y};
-    b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv, Duu, Duv, Dvv);
+    if (second) b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv, Duu, Duv, Dvv);
+    else b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv);
     auto vec = [](const double* a) { return Vec3(a[0], a[1], a[2]); };
     SurfacePoint e{vec(P), k_ * vec(Du), k_ * vec(Dv), k_ * k_ * vec(Duu), k_ * k_ * vec(Duv), k_ * k_ * vec(Dvv)};
     if (!regular_ && (b_->triangle || diff_all_ || near_corner(c))) {
@@ -78,21 +98,6 @@ class SubdSurface final : public Surface {
     if (c.x != u || c.y != v) e.p += (u - c.x) * e.du + (v - c.y) * e.dv;
     return e;
   }
-  // Positions only (one Bfr combination instead of six): the mesher maps every new
-  // (u,v) vertex, and the 3D smoothing and the projections try many, through point().
-  Vec3 point(double u, double v) const override {
-    const Vec2 c = clamp({u, v});
-    if (c.x != u || c.y != v) return eval(u, v).p;  // the first-order extension outside
-    return pos(c);
-  }
-  Box2 bounds() const override { return {{0.0, 1.0}, {0.0, 1.0}}; }
-  SurfaceKind kind() const override { return SurfaceKind::Other; }
-  unsigned singular_sides() const override { return sing_; }
-  Vec2 origin() const { return o_; }
-  double scale() const { return k_; }
-  void set_singular_sides(unsigned s) { sing_ = s; }
-
- private:
   bool inside(Vec2 c) const {
     if (b_->triangle) return c.x >= 0.0 && c.y >= 0.0 && c.x + c.y <= 1.0;
     return c.x >= 0.0 && c.y >= 0.0 && c.x <= 1.0 && c.y <= 1.0;
@@ -157,7 +162,19 @@ class NgonSurface final : public Surface {
       box_.v.lo = std::min(box_.v.lo, q.y), box_.v.hi = std::max(box_.v.hi, q.y);
     }
   }
-  SurfacePoint eval(double u, double v) const override {
+  SurfacePoint eval(double u, double v) const override { return evaluate(u, v, true); }
+  SurfacePoint eval_first(double u, double v) const override { return evaluate(u, v, false); }
+  Vec3 point(double u, double v) const override {
+    const Vec2 x{u, v};
+    const int k = sector(x);
+    const Vec2 st = ngon_subface_coords(p_, c_, k, x);
+    return sub_[k]->point(st.x, st.y);
+  }
+  Box2 bounds() const override { return box_; }
+  SurfaceKind kind() const override { return SurfaceKind::Other; }
+
+ private:
+  SurfacePoint evaluate(double u, double v, bool second_derivatives) const {
     const Vec2 x{u, v};
     const int k = sector(x);
     const Vec2 st = ngon_subface_coords(p_, c_, k, x);
@@ -169,34 +186,25 @@ class NgonSurface final : public Surface {
     const Vec2 Ps = e + st.y * g, Pt = f + st.x * g;
     const double det = Ps.x * Pt.y - Ps.y * Pt.x;
     const double su = Pt.y / det, sv = -Pt.x / det, tu = -Ps.y / det, tv = Ps.x / det;
+    const SurfacePoint a = second_derivatives ? sub_[k]->eval(st.x, st.y) : sub_[k]->eval_first(st.x, st.y);
+    SurfacePoint r;
+    r.p = a.p;
+    r.du = su * a.du + tu * a.dv;
+    r.dv = sv * a.du + tv * a.dv;
+    if (!second_derivatives) return r;
     auto second = [&](double sa, double ta, double sb, double tb) {
       const double w = sa * tb + ta * sb;
       return Vec2(-(su * g.x + sv * g.y) * w, -(tu * g.x + tv * g.y) * w);
     };
     const Vec2 uu = second(su, tu, su, tu), uv = second(su, tu, sv, tv), vv = second(sv, tv, sv, tv);
-    const SurfacePoint a = sub_[k]->eval(st.x, st.y);
     auto d2 = [&](double sa, double ta, double sb, double tb, const Vec2& ab) {
       return sa * sb * a.duu + (sa * tb + ta * sb) * a.duv + ta * tb * a.dvv + ab.x * a.du + ab.y * a.dv;
     };
-    SurfacePoint r;
-    r.p = a.p;
-    r.du = su * a.du + tu * a.dv;
-    r.dv = sv * a.du + tv * a.dv;
     r.duu = d2(su, tu, su, tu, uu);
     r.duv = d2(su, tu, sv, tv, uv);
     r.dvv = d2(sv, tv, sv, tv, vv);
     return r;
   }
-  Vec3 point(double u, double v) const override {
-    const Vec2 x{u, v};
-    const int k = sector(x);
-    const Vec2 st = ngon_subface_coords(p_, c_, k, x);
-    return sub_[k]->point(st.x, st.y);
-  }
-  Box2 bounds() const override { return box_; }
-  SurfaceKind kind() const override { return SurfaceKind::Other; }
-
- private:
   // The sub-face whose angular sector around the centre (from the ray to side point k-1
   // to the ray to side point k, CCW) holds x; outside the polygon the sectors extend.
   int sector(const Vec2& x) const {

@@ -27,30 +27,41 @@ double curve_size(const geom::CurvePoint3& c, const param::SizeSpec& spec) {
 // parameter. The largest over the curve's own size and every adjacent face's metric.
 double EdgeDiscretizer::density(const geom::Edge& e, geom::Id eid, double t, double& speed,
                                 const BoundaryCaps* caps) const {
-  const geom::CurvePoint3 c = e.curve->eval(t);
-  speed = glm::length(c.d1);
+  auto& seen = seen_[static_cast<std::size_t>(eid)];
+  auto it = seen.find(t);
+  if (it == seen.end()) it = seen.emplace(t, sample(e, eid, t)).first;
+  const Sample& x = it->second;
+  speed = x.speed;
   if (!(speed > 0)) return 0.0;
-  double h = curve_size(c, spec_);
-  if (auto it = spec_.edge_size.find(eid); it != spec_.edge_size.end()) h = std::min(h, it->second);
-  h = std::clamp(h, spec_.hmin > 0 ? spec_.hmin : 0.0, spec_.hmax);
-  double f = speed / h;
-  for (const Adjacent& a : adj_[static_cast<std::size_t>(eid)]) {
-    const param::FaceSizeField* fld = fields_[static_cast<std::size_t>(a.face)];
-    if (!fld) continue;
-    const geom::Vec2 uv = a.pcurve->point(t);
-    const param::Metric3 m = fld->metric3(uv.x, uv.y);
-    f = std::max(f, m.length(c.d1));
-  }
+  double f = x.f;
   if (caps && f > 0) {
-    const double hc = caps->cap(eid, c.p, c.d1 / speed, speed / f);
+    const double hc = caps->cap(eid, x.p, x.d1 / speed, speed / f);
     f = std::max(f, speed / hc);
   }
   return f;
 }
 
+EdgeDiscretizer::Sample EdgeDiscretizer::sample(const geom::Edge& e, geom::Id eid, double t) const {
+  const geom::CurvePoint3 c = e.curve->eval(t);
+  Sample x{c.p, c.d1, glm::length(c.d1), 0.0};
+  if (!(x.speed > 0)) return x;
+  double h = curve_size(c, spec_);
+  if (auto it = spec_.edge_size.find(eid); it != spec_.edge_size.end()) h = std::min(h, it->second);
+  h = std::clamp(h, spec_.hmin > 0 ? spec_.hmin : 0.0, spec_.hmax);
+  x.f = x.speed / h;
+  for (const Adjacent& a : adj_[static_cast<std::size_t>(eid)]) {
+    const param::FaceSizeField* fld = fields_[static_cast<std::size_t>(a.face)];
+    if (!fld) continue;
+    const geom::Vec2 uv = a.pcurve->point(t);
+    const param::Metric3 m = fld->metric3(uv.x, uv.y);
+    x.f = std::max(x.f, m.length(c.d1));
+  }
+  return x;
+}
+
 EdgeDiscretizer::EdgeDiscretizer(const geom::Model& m, const param::SizeSpec& spec,
                                  const std::vector<const param::FaceSizeField*>& fields)
-    : m_(m), spec_(spec), fields_(fields), adj_(m.edges.size()) {
+    : m_(m), spec_(spec), fields_(fields), adj_(m.edges.size()), seen_(m.edges.size()) {
   for (std::size_t f = 0; f < m.faces.size(); ++f)
     for (const geom::Loop& l : m.faces[f].loops)
       for (const geom::EdgeUse& u : l.uses) {

@@ -74,19 +74,32 @@ int pole_segments(const geom::EdgeUse& use, const geom::Surface& s, const param:
 // measures some direction more than kTol off the exact one. Hanging nodes make the field
 // slightly discontinuous across a split cell's side, which the mesher's edge sampling
 // tolerates.
+//
+// The grid is a cache: every node is an exact induced metric (a surface evaluation with
+// derivatives), and it pays only where the mesher's queries (every quarter of a unit
+// length along each edge it measures, mesher2d's sample_edge) fall several to a cell.
+// The top level therefore has about kCellsPerUnit cells per unit length in each
+// direction (grid_cells), not a fixed 64 x 64: on a face a few elements across (a
+// subdivision patch, about 8 on catmark_pawn) 64 cells were a tenth of an element, and
+// nearly every query filled new nodes (1.66M exact metrics for 2.28M queries on
+// catmark_pawn, 35% of its CPU time; 0.34M with 16 cells). Cells of about one unit are
+// far finer than the variation of the 3D field (sizes change by at most the gradation,
+// 1.3, per unit), and where J varies faster the cells split as before.
 class UvMetricGrid {
  public:
-  UvMetricGrid(const param::FaceSizeField& field, const geom::Box2& box, unsigned singular_sides, int n = 64)
-      : field_(field), box_(box), singular_(singular_sides), n_(n), vals_(static_cast<std::size_t>((n + 1) * (n + 1))),
-        has_(vals_.size(), 0), state_(static_cast<std::size_t>(n * n), kUnknown) {}
+  // nu x nv cells at the top level (see grid_cells).
+  UvMetricGrid(const param::FaceSizeField& field, const geom::Box2& box, unsigned singular_sides, int nu, int nv)
+      : field_(field), box_(box), singular_(singular_sides), nu_(nu), nv_(nv),
+        vals_(static_cast<std::size_t>((nu + 1) * (nv + 1))), has_(vals_.size(), 0),
+        state_(static_cast<std::size_t>(nu * nv), kUnknown) {}
   m2d::Metric2 operator()(double u, double v) {
     const double fu = frac(box_.u, u), fv = frac(box_.v, v);
     int level = 0;
     for (;;) {
-      const int cells = n_ << level;
-      const int i = std::min(static_cast<int>(fu * cells), cells - 1);
-      const int j = std::min(static_cast<int>(fv * cells), cells - 1);
-      const double tu = fu * cells - i, tv = fv * cells - j;
+      const int cu = nu_ << level, cv = nv_ << level;
+      const int i = std::min(static_cast<int>(fu * cu), cu - 1);
+      const int j = std::min(static_cast<int>(fv * cv), cv - 1);
+      const double tu = fu * cu - i, tv = fv * cv - j;
       std::int8_t& st = state(level, i, j);
       if (st == kUnknown) st = split_needed(level, i, j) ? kSplit : kLeaf;
       if (st == kLeaf) {
@@ -107,7 +120,7 @@ class UvMetricGrid {
     return std::clamp((x - r.lo) / len, 0.0, 1.0);
   }
   std::int8_t& state(int level, int i, int j) {
-    if (level == 0) return state_[static_cast<std::size_t>(i * n_ + j)];
+    if (level == 0) return state_[static_cast<std::size_t>(i * nv_ + j)];
     return deep_state_[key(level, i, j)];
   }
   static std::uint64_t key(int level, int i, int j) {
@@ -119,7 +132,7 @@ class UvMetricGrid {
   const param::Metric2& node(int level, int i, int j) {
     while (level > 0 && i % 2 == 0 && j % 2 == 0) i /= 2, j /= 2, --level;
     if (level == 0) {
-      const auto k = static_cast<std::size_t>(i * (n_ + 1) + j);
+      const auto k = static_cast<std::size_t>(i * (nv_ + 1) + j);
       if (!has_[k]) {
         vals_[k] = exact(0, i, j);
         has_[k] = 1;
@@ -132,8 +145,7 @@ class UvMetricGrid {
     return it->second;
   }
   param::Metric2 exact(int level, double i, double j) const {
-    const double cells = static_cast<double>(n_ << level);
-    return field_.metric_uv(box_.u.at(i / cells), box_.v.at(j / cells));
+    return field_.metric_uv(box_.u.at(i / static_cast<double>(nu_ << level)), box_.v.at(j / static_cast<double>(nv_ << level)));
   }
   param::Metric2 bilinear(int level, int i, int j, double tu, double tv) {
     const param::Metric2 &a = node(level, i, j), &b = node(level, i + 1, j), &c = node(level, i, j + 1),
@@ -154,9 +166,8 @@ class UvMetricGrid {
     // Cells on a singular side (a pole: a cone's apex, a sphere's) stay as they are: J
     // is singular there by construction and the mesher's pole handling expects the
     // smoothed field (splitting them made a fold at occt_cone_catia's apex).
-    const int cells = n_ << level;
-    if (((singular_ & geom::kSideUMin) && i == 0) || ((singular_ & geom::kSideUMax) && i == cells - 1) ||
-        ((singular_ & geom::kSideVMin) && j == 0) || ((singular_ & geom::kSideVMax) && j == cells - 1))
+    if (((singular_ & geom::kSideUMin) && i == 0) || ((singular_ & geom::kSideUMax) && i == (nu_ << level) - 1) ||
+        ((singular_ & geom::kSideVMin) && j == 0) || ((singular_ & geom::kSideVMax) && j == (nv_ << level) - 1))
       return false;
     const param::Metric2 mi = bilinear(level, i, j, 0.5, 0.5);
     const param::Metric2 me = exact(level, i + 0.5, j + 0.5);
@@ -174,13 +185,41 @@ class UvMetricGrid {
   const param::FaceSizeField& field_;
   geom::Box2 box_;
   unsigned singular_;  ///< geom::SideBits of the surface's poles
-  int n_;
+  int nu_, nv_;
   std::vector<param::Metric2> vals_;
   std::vector<char> has_;
   std::vector<std::int8_t> state_;
   std::unordered_map<std::uint64_t, std::int8_t> deep_state_;
   std::unordered_map<std::uint64_t, param::Metric2> deep_vals_;
 };
+
+// Top-level cells of a face's UvMetricGrid along u and v, from its metric length across
+// the box in each direction (the largest metric speed of the samples times the side):
+// kCellsPerUnit cells per unit length, as a power of two between 16 (the size field's own
+// grid, FaceSizeField's 17 x 17 nodes, whose lines then are grid lines) and 64 (the fixed
+// size before; a face more than 32 units across keeps it). Exact metrics over
+// catmark_car, pawn, nonman_edges and pole64: 2 cells per unit 4.4M, 1 cell 2.7M, 1 cell
+// down to 8 x 8 2.2M, with the same shares of Q < 1.5 to 0.006 (but at 8 the size field's
+// grid lines fall inside cells).
+// A face with a pole keeps 64 x 64: the cells along a singular side are never split
+// (UvMetricGrid::split_needed), so their size is the width of the smoothed field the
+// pole handling sees; 16 cells there left two triangles of Q 3.3-3.6 at occt_crankarm's
+// face 45 (test "caps wedged between sub-hmin features").
+constexpr double kCellsPerUnit = 1.0;
+std::array<int, 2> grid_cells(const std::vector<param::Metric2>& samples, const geom::Box2& box, unsigned singular_sides) {
+  if (singular_sides != 0u) return {64, 64};
+  double su = 0, sv = 0;
+  for (const param::Metric2& g : samples) {
+    if (std::isfinite(g(0, 0)) && g(0, 0) > 0) su = std::max(su, std::sqrt(g(0, 0)));
+    if (std::isfinite(g(1, 1)) && g(1, 1) > 0) sv = std::max(sv, std::sqrt(g(1, 1)));
+  }
+  auto cells = [](double units) {
+    int n = 16;
+    while (n < 64 && n < kCellsPerUnit * units) n *= 2;
+    return n;
+  };
+  return {cells(su * box.u.length()), cells(sv * box.v.length())};
+}
 
 std::string fmt_uv(const geom::Vec2& p) {
   std::ostringstream o;
@@ -598,7 +637,13 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   };
 
   // ---- mesher2d under M_uv = J^T M3 J (the field interpolates M3 on a background grid).
-  UvMetricGrid grid(field, f.uv_box, s.singular_sides());
+  // 9 x 9 exact samples: the grid's cell counts and the v scaling below.
+  std::vector<param::Metric2> samples;
+  samples.reserve(81);
+  for (int i = 0; i <= 8; ++i)
+    for (int j = 0; j <= 8; ++j) samples.push_back(field.metric_uv(f.uv_box.u.at((i + 0.5) / 9.5), f.uv_box.v.at((j + 0.5) / 9.5)));
+  const auto [cells_u, cells_v] = grid_cells(samples, f.uv_box, s.singular_sides());
+  UvMetricGrid grid(field, f.uv_box, s.singular_sides(), cells_u, cells_v);
   // mesher2d starts from the Delaunay triangulation of the boundary in its own
   // coordinates and refines under the metric from there (§7.6.1). Where the (u,v) metric
   // is strongly anisotropic as a whole -- an angle parameter times a radius against a
@@ -619,12 +664,10 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   if (!has_pole) {
     double lu = 0, lv = 0;
     int n = 0;
-    for (int i = 0; i <= 8; ++i)
-      for (int j = 0; j <= 8; ++j) {
-        const m2d::Metric2 g = grid(f.uv_box.u.at((i + 0.5) / 9.5), f.uv_box.v.at((j + 0.5) / 9.5));
-        if (!(g.m11 > 0) || !(g.m22 > 0) || !std::isfinite(g.m11) || !std::isfinite(g.m22)) continue;
-        lu += 0.5 * std::log(g.m11), lv += 0.5 * std::log(g.m22), ++n;
-      }
+    for (const param::Metric2& g : samples) {
+      if (!(g(0, 0) > 0) || !(g(1, 1) > 0) || !std::isfinite(g(0, 0)) || !std::isfinite(g(1, 1))) continue;
+      lu += 0.5 * std::log(g(0, 0)), lv += 0.5 * std::log(g(1, 1)), ++n;
+    }
     if (n > 0) {
       const double k = std::exp((lv - lu) / n);
       if (std::isfinite(k) && std::abs(std::log(k)) > std::log(1.5)) vscale = std::clamp(k, 1e-6, 1e6);

@@ -213,7 +213,7 @@ struct Improver {
       }
       if (qmin > 0.9 || nc == 0) continue;
       c /= static_cast<double>(nc);  // each ring vertex counted twice: the mean is unchanged
-      const geom::SurfacePoint e = s.eval(lm.uv[v].x, lm.uv[v].y);
+      const geom::SurfacePoint e = s.eval_first(lm.uv[v].x, lm.uv[v].y);  // sigma_u, sigma_v only
       double best = try_move(v, ring[v], e, c, qmin * 1.001);
       if (qmin < 1.0 / 1.6) {
         // The tangent-plane normal, oriented as the (u,v) triangles are (CCW in (u,v)
@@ -233,7 +233,7 @@ struct Improver {
         const geom::Vec3 ideal = ideal_sum / static_cast<double>(ring[v].size());
         const geom::Vec3 cands[] = {ideal, 0.5 * (lm.p[v] + ideal_worst), ideal_worst};
         for (const geom::Vec3& cand : cands) {
-          const geom::SurfacePoint ev = best > 0 ? s.eval(lm.uv[v].x, lm.uv[v].y) : e;
+          const geom::SurfacePoint ev = best > 0 ? s.eval_first(lm.uv[v].x, lm.uv[v].y) : e;
           const double got = try_move(v, ring[v], ev, cand, std::max(qmin, best) * 1.001);
           if (got > 0) best = got;
         }

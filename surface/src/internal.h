@@ -4,6 +4,7 @@
 
 #include <array>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "uvmesh/geom/model.h"
@@ -30,12 +31,25 @@ class EdgeDiscretizer {
     geom::Id face;
     const geom::Curve2* pcurve;
   };
+  /// What density() needs from the curve and the faces at t, before the caps.
+  struct Sample {
+    geom::Vec3 p, d1;  ///< C(t), C'(t)
+    double speed;      ///< |C'(t)|
+    double f;          ///< unit edges per unit of parameter without caps
+  };
   /// Unit edges per unit of parameter at t; `speed` receives |C'(t)|.
   double density(const geom::Edge& e, geom::Id eid, double t, double& speed, const BoundaryCaps* caps) const;
+  Sample sample(const geom::Edge& e, geom::Id eid, double t) const;
   const geom::Model& m_;
   const param::SizeSpec& spec_;
   const std::vector<const param::FaceSizeField*>& fields_;
   std::vector<std::vector<Adjacent>> adj_;
+  /// Per edge, the samples at the parameters already seen: the rounds under caps
+  /// (MeshOptions::boundary_size_rounds) sample the same parameters again, and the curve
+  /// evaluation with second derivatives and the face metrics behind them are most of
+  /// the cost. One edge is discretized by one thread at a time, so each list is only
+  /// touched by that thread.
+  mutable std::vector<std::unordered_map<double, Sample>> seen_;
   int min_closed_ = 3;
 };
 

@@ -221,7 +221,7 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
 
     // Derivatives against finite differences on a sample of patches.
     int checked = 0;
-    double worst = 0;
+    double worst = 0, worst_first = 0;
     for (std::size_t f = 0; f < m.faces.size(); f += std::max<std::size_t>(1, m.faces.size() / 60)) {
       const geom::Surface& s = *m.faces[f].surface;
       const geom::SubdPatch& P = r.patches[f];
@@ -238,6 +238,11 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
         const double err = test::surface_fd_error(s, u, v, 1e-5, 1e-5, D);
         worst = std::max(worst, err);
         ++checked;
+        // eval_first (the induced metric's evaluation, without second derivatives) is
+        // eval's point and first derivatives.
+        const geom::SurfacePoint e2 = s.eval(u, v), e1 = s.eval_first(u, v);
+        worst_first = std::max({worst_first, glm::length(e1.p - e2.p) / D, glm::length(e1.du - e2.du) / D,
+                                glm::length(e1.dv - e2.dv) / D});
       }
       // Corners (extraordinary vertices included) evaluate to finite values ((0,0) is
       // corner 0 of an n-gon patch too).
@@ -249,6 +254,7 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
     // Central differences with h = 1e-5: O(h^2) truncation plus rounding of ~1e-16/h^2
     // on the second derivatives; piecewise (irregular) patches add their seams.
     CHECK(worst < 1e-8);
+    CHECK(worst_first <= 1e-13);
 
     // Shared edges: every use of an edge gives the edge's curve point at the same t.
     double gap = 0, vgap = 0;

@@ -232,7 +232,16 @@ Metric<N> Metric<N>::clamped(double hmin, double hmax) const {
 /// common eigen-directions and >= both everywhere.
 template <int N>
 Metric<N> intersect(const Metric<N>& a, const Metric<N>& b) {
-  const Metric<N> ah = a.power(0.5), aih = a.power(-0.5);
+  // A^{1/2} and A^{-1/2} from one eigen-decomposition of A (the same one power() makes;
+  // gradation's intersections were 5% of the CPU time of meshing catmark_car).
+  const Eigen<N> ea = a.eigen();
+  std::array<double, N> sq, isq;
+  for (int i = 0; i < N; ++i) {
+    const double l = std::max(ea.values[i], std::numeric_limits<double>::min());
+    sq[i] = std::pow(l, 0.5);
+    isq[i] = std::pow(l, -0.5);
+  }
+  const Metric<N> ah = Metric<N>::from_eigen(ea.vectors, sq), aih = Metric<N>::from_eigen(ea.vectors, isq);
   Metric<N> c;
   // c = aih * b * aih
   for (int i = 0; i < N; ++i)

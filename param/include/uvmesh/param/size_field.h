@@ -66,6 +66,8 @@ Metric3 curvature_metric(const Curvature& c, const SizeSpec& spec);
 /// Metric of the spec at the surface point sigma(u,v) of face `face` (kNone: no face
 /// size): curvature metric intersected with the face size and the point sizes.
 Metric3 surface_metric(const geom::Surface& s, double u, double v, const SizeSpec& spec, geom::Id face = geom::kNone);
+/// The same at an evaluated point e = s.eval(u, v) (its second derivatives are needed).
+Metric3 surface_metric(const geom::SurfacePoint& e, const SizeSpec& spec, geom::Id face = geom::kNone);
 
 /// Induced (u,v) metric M_uv = J^T M3 J, J = [sigma_u sigma_v]: the (u,v) step d has the
 /// metric length of the 3D step J d to first order. At a pole J is singular (sigma_u = 0)
@@ -93,7 +95,8 @@ class FaceSizeField {
   FaceSizeField(const geom::Surface& s, const geom::Box2& box, const SizeSpec& spec, geom::Id face = geom::kNone,
                 int n = 17);
   Metric3 metric3(double u, double v) const;
-  /// Induced metric at (u,v): J from the surface, M3 from the background.
+  /// Induced metric at (u,v): J from the surface (Surface::eval_first), M3 from the
+  /// background.
   Metric2 metric_uv(double u, double v) const;
   int corrections() const { return corrections_; }
 
