@@ -16,6 +16,7 @@
 #include <memory>
 #include <numbers>
 #include <set>
+#include <sstream>
 
 #include "internal.h"
 #include "uvmesh/surface/check3d.h"
@@ -158,6 +159,28 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     for (const geom::Loop& l : face.loops)
       for (const geom::EdgeUse& u : l.uses)
         if (u.edge >= 0 && static_cast<std::size_t>(u.edge) < ne) on_face[static_cast<std::size_t>(u.edge)] = 1;
+
+  // An edge whose two ends are one model vertex although its curve's ends are farther
+  // apart than the edge's own tolerance is closed by the vertex's tolerance alone: its
+  // last node is that vertex, and the faces along it fold at the scale of the gap
+  // (occt_caxif_k1: edges of 1 mm whose vertex got OCC's largest tolerance, 1 mm; 19
+  // self-intersecting pairs in each of two solids). The mesh cannot follow both; say so.
+  for (std::size_t e = 0; e < ne; ++e) {
+    const geom::Edge& ed = m.edges[e];
+    if (!on_face[e] || ed.degenerate || !ed.curve || ed.v0 != ed.v1 || ed.v0 == geom::kNone) continue;
+    try {
+      const double gap = glm::length(ed.curve->point(ed.range.hi) - ed.curve->point(ed.range.lo));
+      if (!(gap > ed.tol)) continue;
+      std::ostringstream os;
+      os << "edge " << e << ": both ends are vertex " << ed.v0 << " (tolerance "
+         << m.vertices[static_cast<std::size_t>(ed.v0)].tol << ") but its curve's ends are " << gap
+         << " apart (edge length " << ed.length << ", tolerance " << ed.tol
+         << "): the mesh closes it at the vertex, and the faces along it may fold there";
+      res.warnings.push_back(os.str());
+    } catch (...) {
+      // An edge whose curve cannot be evaluated fails in the discretization below.
+    }
+  }
 
   // ---- 1. curves: every edge once.
   t0 = Clock::now();
