@@ -239,10 +239,12 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
         worst = std::max(worst, err);
         ++checked;
         // eval_first (the induced metric's evaluation, without second derivatives) is
-        // eval's point and first derivatives.
+        // eval's point, and its first derivatives to 1e-4 of their length (one-sided
+        // differences near extraordinary vertices).
         const geom::SurfacePoint e2 = s.eval(u, v), e1 = s.eval_first(u, v);
-        worst_first = std::max({worst_first, glm::length(e1.p - e2.p) / D, glm::length(e1.du - e2.du) / D,
-                                glm::length(e1.dv - e2.dv) / D});
+        CHECK(glm::length(e1.p - e2.p) <= 1e-14 * D);
+        worst_first = std::max({worst_first, glm::length(e1.du - e2.du) / glm::length(e2.du),
+                                glm::length(e1.dv - e2.dv) / glm::length(e2.dv)});
       }
       // Corners (extraordinary vertices included) evaluate to finite values ((0,0) is
       // corner 0 of an n-gon patch too).
@@ -254,7 +256,7 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
     // Central differences with h = 1e-5: O(h^2) truncation plus rounding of ~1e-16/h^2
     // on the second derivatives; piecewise (irregular) patches add their seams.
     CHECK(worst < 1e-8);
-    CHECK(worst_first <= 1e-13);
+    CHECK(worst_first <= 1e-4);
 
     // Shared edges: every use of an edge gives the edge's curve point at the same t.
     double gap = 0, vgap = 0;

@@ -56,9 +56,10 @@ class Surface {
   virtual unsigned singular_sides() const { return 0u; }
   /// sigma(u,v) alone; back ends whose derivatives cost extra work override it.
   virtual Vec3 point(double u, double v) const { return eval(u, v).p; }
-  /// sigma and its first derivatives, equal to eval()'s; the second derivatives may be
-  /// left zero. The induced metric needs no more, and back ends whose second derivatives
-  /// cost extra work override it.
+  /// sigma (equal to eval()'s) and its first derivatives (equal to eval()'s, or within
+  /// 1e-4 of their length where a back end differences them more cheaply); the second
+  /// derivatives may be left zero. The induced metric and the 3D smoothing need no
+  /// more, and back ends whose derivatives cost extra work override it.
   virtual SurfacePoint eval_first(double u, double v) const { return eval(u, v); }
 };
 
