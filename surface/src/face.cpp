@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
 #include <unordered_map>
 
 #include "internal.h"
@@ -261,16 +262,33 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     return glm::length(q - a) > l && glm::length(q - b) > l;
   };
   const std::size_t nt = lm.tris.size();
-  // Interior edges -> their two (triangle, opposite corner) uses.
-  std::map<std::pair<int, int>, std::vector<std::pair<std::size_t, int>>> uses;
+  // Interior edges -> their two (triangle, opposite corner) uses: records sorted by edge,
+  // then triangle and corner (the order a std::map of vectors gave, without a node and a
+  // vector per edge; that map was a third of the repair's time).
+  struct Use {
+    int a, b;  // a < b
+    std::size_t t;
+    int i;
+    bool operator<(const Use& o) const { return std::tie(a, b, t, i) < std::tie(o.a, o.b, o.t, o.i); }
+  };
+  std::vector<Use> uses;
+  uses.reserve(3 * nt);
   for (std::size_t t = 0; t < nt; ++t)
     for (int i = 0; i < 3; ++i) {
       const int a = lm.tris[t][(i + 1) % 3], b = lm.tris[t][(i + 2) % 3];
-      uses[{std::min(a, b), std::max(a, b)}].push_back({t, i});
+      uses.push_back({std::min(a, b), std::max(a, b), t, i});
     }
+  std::sort(uses.begin(), uses.end());
+  auto uses_of = [&](int a, int b) {  // [first, last) of edge a-b's records
+    const Use key{std::min(a, b), std::max(a, b), 0, 0};
+    const auto lo = std::lower_bound(uses.begin(), uses.end(), key);
+    auto hi = lo;
+    while (hi != uses.end() && hi->a == key.a && hi->b == key.b) ++hi;
+    return std::pair{lo, hi};
+  };
   auto interior = [&](int a, int b) {
-    const auto it = uses.find({std::min(a, b), std::max(a, b)});
-    return it != uses.end() && it->second.size() == 2 && !(lm.fixed[a] && lm.fixed[b]);
+    const auto [lo, hi] = uses_of(a, b);
+    return hi - lo == 2 && !(lm.fixed[a] && lm.fixed[b]);
   };
   std::vector<std::pair<int, int>> to_split;
   std::vector<std::size_t> centroid_split;
@@ -286,8 +304,9 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     if (best >= 0) to_split.push_back({T[(best + 1) % 3], T[(best + 2) % 3]});
     else centroid_split.push_back(t);
   }
-  for (const auto& [ab, u] : uses) {
-    const auto [a, b] = ab;
+  for (std::size_t k = 0; k < uses.size(); ++k) {
+    if (k > 0 && uses[k].a == uses[k - 1].a && uses[k].b == uses[k - 1].b) continue;  // one edge once
+    const int a = uses[k].a, b = uses[k].b;
     if (!interior(a, b)) continue;
     if (deviates(0.5 * (lm.p[a] + lm.p[b]), 0.5 * (lm.uv[a] + lm.uv[b]), glm::length(lm.p[b] - lm.p[a]), nullptr))
       to_split.push_back({a, b});
@@ -295,9 +314,9 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
   std::vector<char> touched(nt, 0);
   int splits = 0;
   for (auto [a, b] : to_split) {
-    const auto& u = uses[{std::min(a, b), std::max(a, b)}];
-    const auto [t1, i1] = u[0];
-    const auto [t2, i2] = u[1];
+    const auto u = uses_of(a, b).first;
+    const std::size_t t1 = u[0].t, t2 = u[1].t;
+    const int i1 = u[0].i, i2 = u[1].i;
     if (touched[t1] || touched[t2]) continue;
     // The (u,v) midpoint lies on the shared (u,v) edge: the four halves stay CCW.
     // Where the surface folds over itself (occt_mesh_hang's swept tube: sigma_u x
