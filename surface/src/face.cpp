@@ -206,9 +206,14 @@ class UvMetricGrid {
 // (UvMetricGrid::split_needed), so their size is the width of the smoothed field the
 // pole handling sees; 16 cells there left two triangles of Q 3.3-3.6 at occt_crankarm's
 // face 45 (test "caps wedged between sub-hmin features").
+// CAD surfaces keep 64 x 64 too: the counts from the metric speed moved gmsh_t20_part at
+// --hmax D/40 --angle 30 from 0 to 4 self-intersecting pairs and one triangle of Q 4.5
+// (faces 1 and 4). A subdivision patch (SurfaceKind::Other) is one smooth polynomial
+// piece a few elements across, where the count from the speed is what saves the time.
 constexpr double kCellsPerUnit = 1.0;
-std::array<int, 2> grid_cells(const std::vector<param::Metric2>& samples, const geom::Box2& box, unsigned singular_sides) {
-  if (singular_sides != 0u) return {64, 64};
+std::array<int, 2> grid_cells(const std::vector<param::Metric2>& samples, const geom::Box2& box, unsigned singular_sides,
+                              geom::SurfaceKind kind) {
+  if (singular_sides != 0u || kind != geom::SurfaceKind::Other) return {64, 64};
   double su = 0, sv = 0;
   for (const param::Metric2& g : samples) {
     if (std::isfinite(g(0, 0)) && g(0, 0) > 0) su = std::max(su, std::sqrt(g(0, 0)));
@@ -229,6 +234,121 @@ std::string fmt_uv(const geom::Vec2& p) {
   return o.str();
 }
 
+// A face's edges -> their (triangle, opposite corner) uses, two for an interior edge:
+// records sorted by edge, then triangle and corner (the order a std::map of vectors gave,
+// without a node and a vector per edge; that map was a third of the chordal repair's time).
+struct EdgeUses {
+  struct Use {
+    int a, b;  // a < b
+    std::size_t t;
+    int i;
+    bool operator<(const Use& o) const { return std::tie(a, b, t, i) < std::tie(o.a, o.b, o.t, o.i); }
+  };
+  std::vector<Use> recs;
+  explicit EdgeUses(const LocalMesh& lm) {
+    recs.reserve(3 * lm.tris.size());
+    for (std::size_t t = 0; t < lm.tris.size(); ++t)
+      for (int i = 0; i < 3; ++i) {
+        const int a = lm.tris[t][(i + 1) % 3], b = lm.tris[t][(i + 2) % 3];
+        recs.push_back({std::min(a, b), std::max(a, b), t, i});
+      }
+    std::sort(recs.begin(), recs.end());
+  }
+  // [first, last) of edge a-b's records.
+  std::pair<std::vector<Use>::const_iterator, std::vector<Use>::const_iterator> of(int a, int b) const {
+    const Use key{std::min(a, b), std::max(a, b), 0, 0};
+    const auto lo = std::lower_bound(recs.begin(), recs.end(), key);
+    auto hi = lo;
+    while (hi != recs.end() && hi->a == key.a && hi->b == key.b) ++hi;
+    return {lo, hi};
+  }
+  // Calls f(a, b, number of uses) once per edge, in edge order.
+  template <class F>
+  void for_each_edge(F&& f) const {
+    for (std::size_t k = 0; k < recs.size();) {
+      std::size_t e = k + 1;
+      while (e < recs.size() && recs[e].a == recs[k].a && recs[e].b == recs[k].b) ++e;
+      f(recs[k].a, recs[k].b, e - k);
+      k = e;
+    }
+  }
+};
+
+// A new interior point of the face at (u,v) uv; -1 where sigma is not finite.
+int add_local_point(LocalMesh& lm, const geom::Surface& s, const geom::Vec2& uv, double scale) {
+  const geom::Vec3 q = s.point(uv.x, uv.y);
+  if (!std::isfinite(q.x + q.y + q.z)) return -1;
+  lm.uv.push_back(uv);
+  lm.p.push_back(q);
+  lm.global.push_back(-1);
+  lm.fixed.push_back(0);
+  lm.scale.push_back(scale);
+  return static_cast<int>(lm.uv.size()) - 1;
+}
+
+// A new point q splits a-b in 3D when it is at least a thousandth of |ab| from both.
+bool splits_in_3d(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& q) {
+  const double l = 1e-3 * glm::length(b - a);
+  return glm::length(q - a) > l && glm::length(q - b) > l;
+}
+
+// Splits each edge of to_split (two uses, neither triangle split yet this round: touched)
+// at its (u,v) midpoint, 2 triangles to 4; returns the splits made.
+int split_edges_at_uv_midpoints(LocalMesh& lm, const geom::Surface& s, const EdgeUses& uses,
+                                const std::vector<std::pair<int, int>>& to_split, std::vector<char>& touched) {
+  int splits = 0;
+  for (auto [a, b] : to_split) {
+    const auto u = uses.of(a, b).first;
+    const std::size_t t1 = u[0].t, t2 = u[1].t;
+    const int i1 = u[0].i, i2 = u[1].i;
+    if (touched[t1] || touched[t2]) continue;
+    // The (u,v) midpoint lies on the shared (u,v) edge: the four halves stay CCW.
+    // Where the surface folds over itself (occt_mesh_hang's swept tube: sigma_u x
+    // sigma_v vanishes along lines and the normal reverses across them) the midpoint can
+    // map onto an end point or onto a corner opposite the edge: the split would only add
+    // zero-area triangles, round after round (6 copies of one point there with 8 rounds).
+    const geom::Vec2 mid = 0.5 * (lm.uv[a] + lm.uv[b]);
+    const geom::Vec3 q = s.point(mid.x, mid.y);
+    const int c1 = lm.tris[t1][i1], c2 = lm.tris[t2][i2];  // the corners opposite a-b
+    if (!splits_in_3d(lm.p[a], lm.p[b], q) || !splits_in_3d(lm.p[a], lm.p[c1], q) ||
+        !splits_in_3d(lm.p[a], lm.p[c2], q))
+      continue;
+    const int n = add_local_point(lm, s, mid, 0.5 * (lm.scale[a] + lm.scale[b]));
+    if (n < 0) continue;
+    for (const auto& [t, i] : {std::pair{t1, i1}, std::pair{t2, i2}}) {
+      const auto T = lm.tris[t];  // corner c opposite the edge x-y, CCW
+      const int c = T[i], x = T[(i + 1) % 3], y = T[(i + 2) % 3];
+      lm.tris[t] = {c, x, n};
+      lm.tris.push_back({c, n, y});
+      touched[t] = 1;
+    }
+    ++splits;
+  }
+  return splits;
+}
+
+// One round of the flatness repair of mesh_face (see there): returns the splits made.
+int flat_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2& box, double rel) {
+  const EdgeUses uses(lm);
+  std::vector<std::pair<int, int>> to_split;
+  uses.for_each_edge([&](int a, int b, std::size_t n) {
+    if (n != 2) return;  // on the face's boundary: the curves' discretization
+    // A chord between two boundary nodes: an edge a neighbouring face can have too.
+    if (!lm.fixed[static_cast<std::size_t>(a)] || !lm.fixed[static_cast<std::size_t>(b)]) return;
+    const geom::Vec3 x = 0.5 * (lm.p[a] + lm.p[b]);
+    const double len = glm::length(lm.p[b] - lm.p[a]), lim = rel * len;
+    // The distance from the chord's midpoint to the surface (not to sigma at the (u,v)
+    // midpoint, which moves along a flat but unevenly parametrized surface too). sigma
+    // there is a surface point: within lim of x, so is the surface, no projection needed.
+    const geom::Vec2 mid = 0.5 * (lm.uv[a] + lm.uv[b]);
+    if (glm::length(s.point(mid.x, mid.y) - x) <= lim) return;
+    const Projection pr = project_to_surface(s, x, mid, box, len);
+    if (pr.converged && pr.distance > lim) to_split.push_back({a, b});
+  });
+  std::vector<char> touched(lm.tris.size(), 0);
+  return split_edges_at_uv_midpoints(lm, s, uses, to_split, touched);
+}
+
 // One round of the chordal repair of mesh_face (see there): returns the splits made.
 int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2& box, double lim) {
   auto ccw = [](const geom::Vec2& a, const geom::Vec2& b, const geom::Vec2& c) {
@@ -246,48 +366,11 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     if (foot) *foot = pr.uv;
     return pr.converged && pr.distance > lim;
   };
-  auto add_point = [&](const geom::Vec2& uv, double scale) {
-    const geom::Vec3 q = s.point(uv.x, uv.y);
-    if (!std::isfinite(q.x + q.y + q.z)) return -1;
-    lm.uv.push_back(uv);
-    lm.p.push_back(q);
-    lm.global.push_back(-1);
-    lm.fixed.push_back(0);
-    lm.scale.push_back(scale);
-    return static_cast<int>(lm.uv.size()) - 1;
-  };
-  // A new point q splits a-b in 3D when it is at least a thousandth of |ab| from both.
-  auto splits_in_3d = [](const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& q) {
-    const double l = 1e-3 * glm::length(b - a);
-    return glm::length(q - a) > l && glm::length(q - b) > l;
-  };
   const std::size_t nt = lm.tris.size();
-  // Interior edges -> their two (triangle, opposite corner) uses: records sorted by edge,
-  // then triangle and corner (the order a std::map of vectors gave, without a node and a
-  // vector per edge; that map was a third of the repair's time).
-  struct Use {
-    int a, b;  // a < b
-    std::size_t t;
-    int i;
-    bool operator<(const Use& o) const { return std::tie(a, b, t, i) < std::tie(o.a, o.b, o.t, o.i); }
-  };
-  std::vector<Use> uses;
-  uses.reserve(3 * nt);
-  for (std::size_t t = 0; t < nt; ++t)
-    for (int i = 0; i < 3; ++i) {
-      const int a = lm.tris[t][(i + 1) % 3], b = lm.tris[t][(i + 2) % 3];
-      uses.push_back({std::min(a, b), std::max(a, b), t, i});
-    }
-  std::sort(uses.begin(), uses.end());
-  auto uses_of = [&](int a, int b) {  // [first, last) of edge a-b's records
-    const Use key{std::min(a, b), std::max(a, b), 0, 0};
-    const auto lo = std::lower_bound(uses.begin(), uses.end(), key);
-    auto hi = lo;
-    while (hi != uses.end() && hi->a == key.a && hi->b == key.b) ++hi;
-    return std::pair{lo, hi};
-  };
+  // Interior edges -> their two (triangle, opposite corner) uses.
+  const EdgeUses uses(lm);
   auto interior = [&](int a, int b) {
-    const auto [lo, hi] = uses_of(a, b);
+    const auto [lo, hi] = uses.of(a, b);
     return hi - lo == 2 && !(lm.fixed[a] && lm.fixed[b]);
   };
   std::vector<std::pair<int, int>> to_split;
@@ -304,42 +387,13 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     if (best >= 0) to_split.push_back({T[(best + 1) % 3], T[(best + 2) % 3]});
     else centroid_split.push_back(t);
   }
-  for (std::size_t k = 0; k < uses.size(); ++k) {
-    if (k > 0 && uses[k].a == uses[k - 1].a && uses[k].b == uses[k - 1].b) continue;  // one edge once
-    const int a = uses[k].a, b = uses[k].b;
-    if (!interior(a, b)) continue;
+  uses.for_each_edge([&](int a, int b, std::size_t) {
+    if (!interior(a, b)) return;
     if (deviates(0.5 * (lm.p[a] + lm.p[b]), 0.5 * (lm.uv[a] + lm.uv[b]), glm::length(lm.p[b] - lm.p[a]), nullptr))
       to_split.push_back({a, b});
-  }
+  });
   std::vector<char> touched(nt, 0);
-  int splits = 0;
-  for (auto [a, b] : to_split) {
-    const auto u = uses_of(a, b).first;
-    const std::size_t t1 = u[0].t, t2 = u[1].t;
-    const int i1 = u[0].i, i2 = u[1].i;
-    if (touched[t1] || touched[t2]) continue;
-    // The (u,v) midpoint lies on the shared (u,v) edge: the four halves stay CCW.
-    // Where the surface folds over itself (occt_mesh_hang's swept tube: sigma_u x
-    // sigma_v vanishes along lines and the normal reverses across them) the midpoint can
-    // map onto an end point or onto a corner opposite the edge: the split would only add
-    // zero-area triangles, round after round (6 copies of one point there with 8 rounds).
-    const geom::Vec2 mid = 0.5 * (lm.uv[a] + lm.uv[b]);
-    const geom::Vec3 q = s.point(mid.x, mid.y);
-    const int c1 = lm.tris[t1][i1], c2 = lm.tris[t2][i2];  // the corners opposite a-b
-    if (!splits_in_3d(lm.p[a], lm.p[b], q) || !splits_in_3d(lm.p[a], lm.p[c1], q) ||
-        !splits_in_3d(lm.p[a], lm.p[c2], q))
-      continue;
-    const int n = add_point(mid, 0.5 * (lm.scale[a] + lm.scale[b]));
-    if (n < 0) continue;
-    for (const auto& [t, i] : {std::pair{t1, i1}, std::pair{t2, i2}}) {
-      const auto T = lm.tris[t];  // corner c opposite the edge x-y, CCW
-      const int c = T[i], x = T[(i + 1) % 3], y = T[(i + 2) % 3];
-      lm.tris[t] = {c, x, n};
-      lm.tris.push_back({c, n, y});
-      touched[t] = 1;
-    }
-    ++splits;
-  }
+  int splits = split_edges_at_uv_midpoints(lm, s, uses, to_split, touched);
   for (std::size_t t : centroid_split) {
     if (touched[t]) continue;
     const auto T = lm.tris[t];
@@ -354,7 +408,7 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
       const geom::Vec3 q = s.point(foot.x, foot.y);
       if (!splits_in_3d(lm.p[T[0]], lm.p[T[1]], q) || !splits_in_3d(lm.p[T[1]], lm.p[T[2]], q)) continue;
     }
-    const int n = add_point(foot, (lm.scale[T[0]] + lm.scale[T[1]] + lm.scale[T[2]]) / 3.0);
+    const int n = add_local_point(lm, s, foot, (lm.scale[T[0]] + lm.scale[T[1]] + lm.scale[T[2]]) / 3.0);
     if (n < 0) continue;
     lm.tris[t] = {T[0], T[1], n};
     lm.tris.push_back({T[1], T[2], n});
@@ -661,7 +715,7 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   samples.reserve(81);
   for (int i = 0; i <= 8; ++i)
     for (int j = 0; j <= 8; ++j) samples.push_back(field.metric_uv(f.uv_box.u.at((i + 0.5) / 9.5), f.uv_box.v.at((j + 0.5) / 9.5)));
-  const auto [cells_u, cells_v] = grid_cells(samples, f.uv_box, s.singular_sides());
+  const auto [cells_u, cells_v] = grid_cells(samples, f.uv_box, s.singular_sides(), s.kind());
   UvMetricGrid grid(field, f.uv_box, s.singular_sides(), cells_u, cells_v);
   // mesher2d starts from the Delaunay triangulation of the boundary in its own
   // coordinates and refines under the metric from there (§7.6.1). Where the (u,v) metric
@@ -803,6 +857,27 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       if (n == 0) break;
       if (opt.optimize3d) improve3d(lm, s, 2, /*collapse=*/false);
     }
+
+  // ---- flatness at apexes. Sizes are clamped at hmin, and at a cone's apex (curvature
+  // 1/r) nothing below hmin is resolved: without a chordal tolerance (--angle alone) the
+  // repair above does not run, and a cone cut in halves then got the same chord through
+  // its axis -- even the same triangle (apex, n1, n2) -- in both halves, each the other
+  // turned over: non-manifold edges and coincident triangles (occt_cone_catia at --angle
+  // 30). On a face with a pole, a chord between two boundary nodes whose midpoint lies
+  // farther than a quarter of its length from the surface -- it spans more than about 105
+  // degrees of arc -- is split at its (u,v) midpoint, so a half turn keeps at least two
+  // edges, each face its own. (Every interior edge, or every face, measured worse: such
+  // splits without the sizes' context made slivers on occt_terrain and
+  // occt_caxif_b1's face 83, and moved t106_blade and mesh_hang.)
+  if (has_pole) {
+    constexpr double kFlatRel = 0.25;
+    for (int round = 0; round < 4; ++round) {
+      const int n = flat_split_round(lm, s, f.uv_box, kFlatRel);
+      out.stats.chordal_splits += n;
+      if (n == 0) break;
+      if (opt.optimize3d) improve3d(lm, s, 2, /*collapse=*/false);
+    }
+  }
 
   const std::size_t nvf = lm.uv.size();  // with the points of the chordal repair
 

@@ -262,6 +262,25 @@ TEST_CASE("surface mesher: --hmax D/40 --angle 30 on the bracket", "[surface]") 
   accept(std::string(UVMESH_SOURCE_DIR) + "/samples/data/bracket.step", true, &o);
 }
 
+TEST_CASE("surface mesher: a cone cut in halves keeps its halves apart at the apex with --angle 30 alone "
+          "(occt_cone_catia)",
+          "[surface]") {
+  // With no chordal tolerance the sizes at the apex are hmin's, and both halves of the
+  // cone had the same chord through the axis -- once even the same triangle (apex, n1,
+  // n2) -- each the other turned over: a non-manifold edge and coincident triangles. The
+  // flatness split (face.cpp) keeps at least two edges per half turn.
+  const std::string file = data("cad/occt_cone_catia.igs");
+  const geom::Model m = load(file);
+  for (const double hmax_rel : {1.0 / 40, 1.0 / 20}) {
+    INFO("hmax = D * " << hmax_rel);
+    surface::MeshOptions o = defaults(m);
+    o.size.hmax = hmax_rel * m.bbox.diagonal();
+    o.size.chordal_tol = 0;
+    o.size.angle_tol = 30.0 * 3.141592653589793 / 180.0;
+    accept(file, true, &o);
+  }
+}
+
 TEST_CASE("surface mesher: a face that cannot be meshed is reported, the rest is meshed", "[surface]") {
   geom::Model m = load(data("cad/axom_tet.step"));
   m.faces[2].surface.reset();  // no surface: this face cannot be meshed
