@@ -55,6 +55,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include <tbb/task_arena.h>
+
 #include "uvmesh/geom/occ.h"
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/prescan.h"
@@ -608,11 +610,18 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
       collect_conform_pieces(shape, args, loose);
       BRepAlgoAPI_BuilderAlgo fuse;
       fuse.SetArguments(args);
-      fuse.SetRunParallel(Standard_False);
+      fuse.SetRunParallel(opt.threads != 1 ? Standard_True : Standard_False);
       fuse.SetNonDestructive(Standard_True);
       // Fuzzy value: solids of an assembly touch within their tolerances, not exactly.
       fuse.SetFuzzyValue(1e-7 * diagonal(shape));
-      fuse.Build();
+      if (opt.threads != 1) {
+        // OCC's parallel loops are TBB loops (Debian's OCCT is built with TBB): the arena
+        // bounds them by the requested thread count.
+        tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
+        arena.execute([&] { fuse.Build(); });
+      } else {
+        fuse.Build();
+      }
       HealStep h;
       const std::string pieces = std::to_string(args.Extent()) + " solids" +
                                  (loose.IsEmpty() ? std::string()

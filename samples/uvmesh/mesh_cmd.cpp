@@ -192,7 +192,9 @@ int run_mesh(const MeshFlags& f) {
     rr.error = std::move(sr.error);
     rr.model = std::move(sr.model);
   } else {
-    rr = io::read_cad(f.read.model, read_options(f.read));
+    io::ReadOptions ro = read_options(f.read);
+    ro.threads = f.threads;  // the assembly's general fuse runs on the same threads as the faces
+    rr = io::read_cad(f.read.model, ro);
   }
   if (!rr.ok) {
     std::cerr << "uvmesh: error: " << rr.error << "\n";

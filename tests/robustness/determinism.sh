@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Determinism of `uvmesh mesh`: the same input and options give a byte-identical output
 # file across runs and for 1, 2 and 8 threads. Models with seams and poles (torus,
-# sphere), many faces (bottle, nist_ctc_01) and a subdivision cage. The format is .msh 4.1
+# sphere), many faces (bottle, nist_ctc_01), an assembly made conforming by OCC's general
+# fuse, which runs in OCC's parallel mode from 2 threads (caxif_dm1_id, 7 solids), and a
+# subdivision cage. The format is .msh 4.1
 # ASCII with 17 significant digits, so a difference in the last bit of a coordinate shows.
 # On a difference it prints the first differing line of the .msh with its section, so the
 # stage (nodes: placement; elements: connectivity) is visible in the log.
@@ -18,6 +20,7 @@ models=(
   cad/gmsh_full_sphere.brep
   cad/occt_bottle.brep
   cad/nist_ctc_01.stp
+  cad/caxif_dm1_id.stp
   subd/catmark_torus.obj
 )
 
