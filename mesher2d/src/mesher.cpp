@@ -593,7 +593,7 @@ class Mesher {
       out.assign(nv, kNone);
     }
     const std::size_t nout = nv - dh.dups.size();
-    M.vertex_markers.assign(nout, 0);
+    detail::assign_huge(M.vertex_markers, nout, 0);
     // Without duplicates input point i is vertex vert_of[i] as it is (the kernel's
     // inverse of its insertion order, made while it gathered the points).
     if (compact)
@@ -655,8 +655,8 @@ class Mesher {
     else
       emit([](VertId v) { return v; });
     const std::size_t k = M.triangles.size();
-    M.triangle_region.assign(k, 0);
-    M.triangle_attribute.assign(k, 0.0);
+    detail::assign_huge(M.triangle_region, k, 0);
+    detail::assign_huge(M.triangle_attribute, k, 0.0);
   }
 
   // ---------------------------------------------------------------- 4. enforcement
@@ -2370,11 +2370,11 @@ class Mesher {
       }
     // Sized once: a million-triangle mesh otherwise grows every array by doubling.
     detail::reserve_huge(M.vertices, M.vertices.size() + static_cast<std::size_t>(nv));
-    M.vertex_markers.reserve(M.vertex_markers.size() + static_cast<std::size_t>(nv));
+    detail::reserve_huge(M.vertex_markers, M.vertex_markers.size() + static_cast<std::size_t>(nv));
     if (vm_.size() == tri_.pts.size()) M.vertex_metric.reserve(M.vertex_metric.size() + static_cast<std::size_t>(nv));
     detail::reserve_huge(M.triangles, M.triangles.size() + ndom);
-    M.triangle_region.reserve(M.triangle_region.size() + ndom);
-    M.triangle_attribute.reserve(M.triangle_attribute.size() + ndom);
+    detail::reserve_huge(M.triangle_region, M.triangle_region.size() + ndom);
+    detail::reserve_huge(M.triangle_attribute, M.triangle_attribute.size() + ndom);
     if (opt_.measure) edges_.reserve(edges_.size() + 3 * ndom / 2 + static_cast<std::size_t>(nv));
     auto take = [&](VertId v) {
       if (v == kNone || !used[v] || newid[v] != kNone) return;
