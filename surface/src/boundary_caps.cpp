@@ -70,8 +70,10 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
     for (double s : t[e]) P.p.push_back(ed.curve->point(s));
     const std::size_t n = P.p.size();
     P.h.assign(n, std::numeric_limits<double>::infinity());
+    P.len.assign(n - 1, 0.0);
     for (std::size_t i = 0; i + 1 < n; ++i) {
       const double l = glm::length(P.p[i + 1] - P.p[i]);
+      P.len[i] = l;
       P.h[i] = std::min(P.h[i], l);
       P.h[i + 1] = std::min(P.h[i + 1], l);
     }
@@ -162,8 +164,13 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
         if (far(P.chunks[c])) continue;
         const std::size_t a = c * kChunk, b = std::min(n - 1, a + kChunk);
         for (std::size_t i = a; i <= b; ++i) {
-          if (g > 0) best = std::min(best, P.h[i] + g * glm::length(x - P.p[i]));
+          const double di = glm::length(x - P.p[i]);
+          if (g > 0) best = std::min(best, P.h[i] + g * di);
           if (i == b) continue;
+          // |x - p_i| - |p_i p_i+1| bounds the distance to the segment from below: when it
+          // is beyond prox (with a margin far above the rounding of the two lengths), the
+          // test below would reject the segment anyway, and its closest point is skipped.
+          if (di - P.len[i] > prox * (1 + 1e-9)) continue;
           // Proximity: the gap counts when it is across the face, not along the boundary:
           // the direction to the closest point must be more than 60 degrees from the
           // tangent at x. At a corner of angle theta this holds only for theta < 30

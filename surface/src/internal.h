@@ -82,6 +82,7 @@ class BoundaryCaps {
   struct EdgePoly {
     std::vector<geom::Vec3> p;  ///< node points
     std::vector<double> h;      ///< size at each node: the shorter adjacent segment
+    std::vector<double> len;    ///< length of each segment (p[i], p[i+1])
     geom::Vec3 lo{0.0}, hi{0.0};
     double hmin = 0.0;
     double tol = 0.0;  ///< the CAD edge's tolerance (largest of the edge's and its vertices')
