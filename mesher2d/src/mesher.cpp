@@ -1079,15 +1079,20 @@ class Mesher {
     if (size_.kind == SizeSpec::Kind::Uniform) lattice_points(aniso);
     std::vector<Cand> cands;
     EdgeSampler es;
-    // Uniform field: after the first wave only the triangles around the vertices the last
-    // wave inserted, and their neighbours, are scanned, in triangle order as the full scan
-    // goes. Every triangle made since the last scan has such a vertex; an edge older than
-    // that had its points tried and rejected, and they stay rejected (vertices are only
-    // added: the nearest vertex of a point, a cavity vertex, only comes closer; constrained
-    // edges stay), so the points inserted are the same, in the same order, as with the
-    // full scan (which took a third of the field-point time after the lattice: three
-    // passes over a million triangles to insert a few thousand points).
-    const bool subset_scan = size_.kind == SizeSpec::Kind::Uniform;
+    // After the first wave only the triangles around the vertices the last wave inserted,
+    // and their neighbours, are scanned, in triangle order as the full scan goes. Every
+    // triangle made since the last scan has such a vertex; an edge older than that had
+    // its points tried and rejected, and they stay rejected (vertices are only added: the
+    // nearest vertex of a point, a cavity vertex, only comes closer; constrained edges
+    // stay). Its candidates would be the same again: they depend on its ends (fixed, with
+    // their metrics and boundary ratios), the field, and the two vertices opposite it
+    // (the bound below), unchanged while its two triangles are. So the points inserted
+    // are the same, in the same order, as with the full scan. Uniform field: the full
+    // scan took a third of the field-point time after the lattice (three passes over a
+    // million triangles to insert a few thousand points). Varying field under a boundary
+    // gradation (every surface face), where the analysed-edge set does not apply: the
+    // later waves sampled every edge again, 40x the first wave's sample_edge calls on
+    // kicad_tantalum_c's two large faces, for a few thousand insertions.
     std::vector<VertId> born;
     std::vector<TriId> scan;
     const bool use_analysed = !from_boundary && size_.kind != SizeSpec::Kind::Uniform;
@@ -1097,7 +1102,7 @@ class Mesher {
     for (int wave = 0; wave < kMaxWaves && !field_error_; ++wave) {
       cands.clear();
       const TriId nt = tri_.num_tris();
-      const bool subset = subset_scan && wave > 0;
+      const bool subset = wave > 0;
       if (subset) {
         scan.clear();
         if (tmark_.size() < static_cast<std::size_t>(nt)) tmark_.resize(nt, 0);
@@ -1243,7 +1248,7 @@ class Mesher {
         const auto r = t0 != kNone ? tri_.insert_point_located(c.p, t0, o, prm) : tri_.insert_point(c.p, hint, prm);
         last_v = r.v;
         if (r.status == InsertStatus::Inserted) {
-          if (subset_scan) born.push_back(r.v);
+          born.push_back(r.v);
           vm_.push_back(prm.m);
           rs_.push_back(c.r);
           fixed_.push_back(0);
