@@ -106,87 +106,106 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
         if (std::find(ef.begin(), ef.end(), static_cast<geom::Id>(f)) == ef.end())
           ef.push_back(static_cast<geom::Id>(f));
       }
+  // What cap() needs of each other edge of the faces around an edge that does not depend
+  // on the query point: the gap floor of the pair, and which ends of the other edge are
+  // ends of this one (two square roots per end and query before).
+  nbrs_.resize(m.edges.size());
+  for (std::size_t e = 0; e < m.edges.size(); ++e) {
+    const EdgePoly& self = poly_[e];
+    for (geom::Id f : edge_faces_[e])
+      for (geom::Id oe : face_edges_[static_cast<std::size_t>(f)]) {
+        if (static_cast<std::size_t>(oe) == e) continue;
+        const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
+        // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor).
+        Neighbour nb{oe, std::max(prox_floor_, kGapToleranceFactor * (self.tol + P.tol)), {false, false}};
+        if (!self.p.empty())
+          for (int k = 0; k < 2; ++k) {
+            const geom::Vec3& q = k == 0 ? P.p.front() : P.p.back();
+            nb.shares_end[k] = glm::length(q - self.p.front()) <= eps_ || glm::length(q - self.p.back()) <= eps_;
+          }
+        nbrs_[e].push_back(nb);
+      }
+  }
 }
 
 double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent,
                          double h) const {
   double best = h, prox = h, at_vertex = h;
   const double g = beta_ - 1.0;
-  const EdgePoly& self = poly_[static_cast<std::size_t>(e)];
-  for (geom::Id f : edge_faces_[static_cast<std::size_t>(e)])
-    for (geom::Id oe : face_edges_[static_cast<std::size_t>(f)]) {
-      // The edge itself: its own 1D gradation already holds along it, and its nodes
-      // near x lie along the tangent (proximity would reject them anyway).
-      if (oe == e) continue;
-      const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
-      // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor).
-      const double gap_floor = std::max(prox_floor_, kGapToleranceFactor * (self.tol + P.tol));
-      // Below hmin, gradation comes only through a vertex the two edges share. An edge
-      // refined below hmin by proximity (a narrow gap) that ends on a coarse edge makes a
-      // jump of 50x there, and the triangles at the joint are caps. Graded from the shared
-      // node, the coarse edge takes O(log) extra nodes. Graded from every sub-hmin node
-      // (of the face, or even of the adjacent edges only), the small sizes spread into
-      // tangential contacts and acute corners, where they only multiply the slivers across
-      // sub-floor gaps (measured: 4x more Q > 3 triangles on gmsh_t20_part, gmsh_ujoint).
-      if (g > 0 && !self.p.empty())
-        for (std::size_t i : {std::size_t(0), P.p.size() - 1})
-          if (glm::length(P.p[i] - self.p.front()) <= eps_ || glm::length(P.p[i] - self.p.back()) <= eps_)
-            at_vertex = std::min(at_vertex, P.h[i] + g * glm::length(x - P.p[i]));
-      // A node p can lower the size at x only if h(p) + g |x - p| < best; a segment only
-      // if it is closer than best.
-      const double reach = std::max(prox, g > 0 ? (best - P.hmin) / g : 0.0);
-      if (box_distance(x, P.lo, P.hi) >= reach) continue;
-      const std::size_t n = P.p.size();
-      auto far = [&](const EdgePoly::Chunk& ch) {
-        return box_distance(x, ch.lo, ch.hi) >= std::max(prox, g > 0 ? (best - ch.hmin) / g : 0.0);
-      };
-      // The nearest group first: the caps it gives shrink the reach for all the others.
-      std::size_t first = 0;
-      double dmin = std::numeric_limits<double>::infinity();
-      for (std::size_t k = 0; k < P.groups.size(); ++k)
-        if (const double d = box_distance(x, P.groups[k].lo, P.groups[k].hi); d < dmin)
-          dmin = d, first = k;
-      for (std::size_t step = 0; step < P.chunks.size() + kChunk; ++step) {
-        // step 0..kChunk-1 visit the chunks of the nearest group, then every other chunk.
-        std::size_t c;
-        if (step < kChunk) {
-          c = first * kChunk + step;
-          if (c >= P.chunks.size()) continue;
-        } else {
-          c = step - kChunk;
-          if (c / kChunk == first) continue;
-          if (c >= P.chunks.size()) break;
-          if (c % kChunk == 0 && far(P.groups[c / kChunk])) {
-            step += kChunk - 1;
-            continue;
-          }
+  // The other edges of the faces around e. The edge itself is not among them: its own 1D
+  // gradation already holds along it, and its nodes near x lie along the tangent
+  // (proximity would reject them anyway).
+  for (const Neighbour& nb : nbrs_[static_cast<std::size_t>(e)]) {
+    const EdgePoly& P = poly_[static_cast<std::size_t>(nb.edge)];
+    const double gap_floor = nb.gap_floor;
+    // Below hmin, gradation comes only through a vertex the two edges share. An edge
+    // refined below hmin by proximity (a narrow gap) that ends on a coarse edge makes a
+    // jump of 50x there, and the triangles at the joint are caps. Graded from the shared
+    // node, the coarse edge takes O(log) extra nodes. Graded from every sub-hmin node
+    // (of the face, or even of the adjacent edges only), the small sizes spread into
+    // tangential contacts and acute corners, where they only multiply the slivers across
+    // sub-floor gaps (measured: 4x more Q > 3 triangles on gmsh_t20_part, gmsh_ujoint).
+    if (g > 0)
+      for (int k = 0; k < 2; ++k)
+        if (nb.shares_end[k]) {
+          const std::size_t i = k == 0 ? 0 : P.p.size() - 1;
+          at_vertex = std::min(at_vertex, P.h[i] + g * glm::length(x - P.p[i]));
         }
-        if (far(P.chunks[c])) continue;
-        const std::size_t a = c * kChunk, b = std::min(n - 1, a + kChunk);
-        for (std::size_t i = a; i <= b; ++i) {
-          const double di = glm::length(x - P.p[i]);
-          if (g > 0) best = std::min(best, P.h[i] + g * di);
-          if (i == b) continue;
-          // |x - p_i| - |p_i p_i+1| bounds the distance to the segment from below: when it
-          // is beyond prox (with a margin far above the rounding of the two lengths), the
-          // test below would reject the segment anyway, and its closest point is skipped.
-          if (di - P.len[i] > prox * (1 + 1e-9)) continue;
-          // Proximity: the gap counts when it is across the face, not along the boundary:
-          // the direction to the closest point must be more than 60 degrees from the
-          // tangent at x. At a corner of angle theta this holds only for theta < 30
-          // degrees, where the sizes then shrink towards the corner.
-          const geom::Vec3 v = closest_on_segment(x, P.p[i], P.p[i + 1]) - x;
-          const double d = glm::length(v);
-          // A gap below the floor (a face narrower than hmin / 100, or than the two
-          // edges' CAD tolerances: a defect rather than a feature) cannot be resolved;
-          // refining along it would only multiply the slivers across it, so it is left
-          // to the other caps.
-          if (d >= prox || d < gap_floor) continue;
-          if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
-          prox = std::min(prox, d);
+    // A node p can lower the size at x only if h(p) + g |x - p| < best; a segment only
+    // if it is closer than best.
+    const double reach = std::max(prox, g > 0 ? (best - P.hmin) / g : 0.0);
+    if (box_distance(x, P.lo, P.hi) >= reach) continue;
+    const std::size_t n = P.p.size();
+    auto far = [&](const EdgePoly::Chunk& ch) {
+      return box_distance(x, ch.lo, ch.hi) >= std::max(prox, g > 0 ? (best - ch.hmin) / g : 0.0);
+    };
+    // The nearest group first: the caps it gives shrink the reach for all the others.
+    std::size_t first = 0;
+    double dmin = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < P.groups.size(); ++k)
+      if (const double d = box_distance(x, P.groups[k].lo, P.groups[k].hi); d < dmin)
+        dmin = d, first = k;
+    for (std::size_t step = 0; step < P.chunks.size() + kChunk; ++step) {
+      // step 0..kChunk-1 visit the chunks of the nearest group, then every other chunk.
+      std::size_t c;
+      if (step < kChunk) {
+        c = first * kChunk + step;
+        if (c >= P.chunks.size()) continue;
+      } else {
+        c = step - kChunk;
+        if (c / kChunk == first) continue;
+        if (c >= P.chunks.size()) break;
+        if (c % kChunk == 0 && far(P.groups[c / kChunk])) {
+          step += kChunk - 1;
+          continue;
         }
       }
+      if (far(P.chunks[c])) continue;
+      const std::size_t a = c * kChunk, b = std::min(n - 1, a + kChunk);
+      for (std::size_t i = a; i <= b; ++i) {
+        const double di = glm::length(x - P.p[i]);
+        if (g > 0) best = std::min(best, P.h[i] + g * di);
+        if (i == b) continue;
+        // |x - p_i| - |p_i p_i+1| bounds the distance to the segment from below: when it
+        // is beyond prox (with a margin far above the rounding of the two lengths), the
+        // test below would reject the segment anyway, and its closest point is skipped.
+        if (di - P.len[i] > prox * (1 + 1e-9)) continue;
+        // Proximity: the gap counts when it is across the face, not along the boundary:
+        // the direction to the closest point must be more than 60 degrees from the
+        // tangent at x. At a corner of angle theta this holds only for theta < 30
+        // degrees, where the sizes then shrink towards the corner.
+        const geom::Vec3 v = closest_on_segment(x, P.p[i], P.p[i + 1]) - x;
+        const double d = glm::length(v);
+        // A gap below the floor (a face narrower than hmin / 100, or than the two
+        // edges' CAD tolerances: a defect rather than a feature) cannot be resolved;
+        // refining along it would only multiply the slivers across it, so it is left
+        // to the other caps.
+        if (d >= prox || d < gap_floor) continue;
+        if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
+        prox = std::min(prox, d);
+      }
     }
+  }
   // The gradation cap stops at hmin, the proximity cap at hmin / 100 (never above h).
   return std::min({h, std::max(best, floor_), std::max(at_vertex, prox_floor_), std::max(prox, prox_floor_)});
 }

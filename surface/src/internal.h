@@ -100,6 +100,12 @@ class BoundaryCaps {
   std::vector<EdgePoly> poly_;
   std::vector<std::vector<geom::Id>> face_edges_;  ///< distinct non-degenerate edges per face
   std::vector<std::vector<geom::Id>> edge_faces_;  ///< distinct faces per edge
+  struct Neighbour {
+    geom::Id edge;       ///< another edge of a face around this one
+    double gap_floor;    ///< a gap below this is none (proximity floor, the two CAD tolerances)
+    bool shares_end[2];  ///< its first / last node is an end of this edge
+  };
+  std::vector<std::vector<Neighbour>> nbrs_;  ///< per edge, in the order cap() visits them
   double beta_ = 1.3, floor_ = 0.0, prox_floor_ = 0.0, eps_ = 0.0;
 };
 
