@@ -316,8 +316,9 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     }
 
   // Strips narrower than the proximity floor, collapsed onto one curve. A face bounded by
-  // two edges between the same two vertices (a lens), no more than proximity_floor()
-  // apart anywhere, is narrower than any element the sizes allow: meshed, it can only be
+  // two edges between the same two vertices (a lens), no more than proximity_floor() --
+  // or the two edges' tolerance floor, when larger -- apart anywhere, is narrower than
+  // any gap the sizes resolve (BoundaryCaps::cap): meshed, it can only be
   // a row of slivers across its width (occt_mesh_artifact: face 2, a planar step 7.9e-6
   // wide and 0.029 long, and face 6, at most 9.7e-6 wide, against a floor of 5.1e-5; 20
   // triangles of Q up to 580, 2.5% of the mesh). Resolving it instead would need
@@ -369,10 +370,16 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       } catch (...) {
         continue;
       }
+      // The narrowest gap the sizes resolve between these two edges is BoundaryCaps' gap
+      // floor: the proximity floor, or the two edges' tolerance floor when that is larger
+      // (a gap inside the tolerance tubes is not refined at all, kGapToleranceFactor).
+      const double gap_floor =
+          std::max(floor, kGapToleranceFactor * (gap_tolerance(m, static_cast<geom::Id>(ea)) +
+                                                 gap_tolerance(m, static_cast<geom::Id>(eb))));
       // The faces beside the strip then meet at its primary edge, up to `width` off the
       // secondary's face: with a chordal tolerance, only a strip much narrower than it
       // (a tenth: the chords along the primary may use 0.9 of it, see the 1D repair).
-      if (!(width <= floor) || (opt.size.chordal_tol > 0 && !(width <= 0.1 * opt.size.chordal_tol))) continue;
+      if (!(width <= gap_floor) || (opt.size.chordal_tol > 0 && !(width <= 0.1 * opt.size.chordal_tol))) continue;
       const bool a_first = edges[ea].t.size() > edges[eb].t.size() || (edges[ea].t.size() == edges[eb].t.size() && ea < eb);
       const std::size_t pe = a_first ? ea : eb, se = a_first ? eb : ea;
       primary_of[se] = static_cast<geom::Id>(pe);
@@ -380,7 +387,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       collapsed[f] = 1;
       std::ostringstream os;
       os << "a strip between edges " << pe << " and " << se << " at most " << width
-         << " wide, narrower than the proximity floor " << floor << " (hmin / 100): edge " << se
+         << " wide, narrower than the proximity floor " << gap_floor
+         << (gap_floor > floor ? " (the edges' tolerances)" : " (hmin / 100)") << ": edge " << se
          << " takes the nodes of edge " << pe << ", faces " << (a_first ? ob : oa) << " and " << (a_first ? oa : ob)
          << " meet there";
       res.collapsed.push_back({static_cast<geom::Id>(f), os.str()});

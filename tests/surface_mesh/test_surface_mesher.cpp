@@ -281,6 +281,21 @@ TEST_CASE("surface mesher: strips narrower than the proximity floor are collapse
     for (geom::Id f : {2, 6}) CHECK(std::count(r.mesh.triangle_face.begin(), r.mesh.triangle_face.end(), f) == 0);
     check_solids_closed(r.mesh, m, 1);
   }
+  // With hmin = D / 1e5 the proximity floor (5.1e-7) is below both widths, but the strips
+  // still lie inside their edges' tolerance floor (vertex 2's tolerance 1.27e-5, twice),
+  // where proximity sees no gap: they are collapsed all the same.
+  surface::MeshOptions small = defaults(m);
+  small.size.hmin = m.bbox.diagonal() / 1e5;
+  const surface::MeshResult r = surface::mesh_model(m, small);
+  CHECK(r.failed.empty());
+  std::set<geom::Id> collapsed;
+  for (const auto& c : r.collapsed) {
+    CHECK(c.reason.find("(the edges' tolerances)") != std::string::npos);
+    collapsed.insert(c.face);
+  }
+  CHECK(collapsed == std::set<geom::Id>{2, 6});
+  check_solids_closed(r.mesh, m, 1);
+  CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);
 }
 
 TEST_CASE("surface mesher: --hmax D/40 --angle 30 on the bracket", "[surface]") {
