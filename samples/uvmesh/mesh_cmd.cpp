@@ -284,6 +284,9 @@ int run_mesh(const MeshFlags& f) {
   if (!f.quiet)
     for (const auto& d : r.degenerate)
       std::cerr << "uvmesh: face " << d.face << " not meshed, degenerate in the model: " << d.reason << "\n";
+  if (!f.quiet)
+    for (const auto& c : r.collapsed)
+      std::cerr << "uvmesh: face " << c.face << " not meshed, collapsed onto one curve: " << c.reason << "\n";
 
   // ---- report
   std::size_t free_edges = 0, nonman = 0;
@@ -331,6 +334,10 @@ int run_mesh(const MeshFlags& f) {
     for (const auto& d : r.degenerate) dg.push_back({{"face", d.face}, {"reason", d.reason}});
     j["degenerate_faces"] = dg;
     j["counts"]["faces_degenerate"] = r.degenerate.size();
+    nlohmann::json cl = nlohmann::json::array();
+    for (const auto& c : r.collapsed) cl.push_back({{"face", c.face}, {"reason", c.reason}});
+    j["collapsed_faces"] = cl;
+    j["counts"]["faces_collapsed"] = r.collapsed.size();
     // What reading and healing did to the file (uvmesh info shows the same): a refused
     // step (an assembly left non-conforming) changes what the mesh can be.
     nlohmann::json heal = nlohmann::json::array();
@@ -359,9 +366,10 @@ int run_mesh(const MeshFlags& f) {
 
   if (!f.quiet) {
     std::cerr << "uvmesh: " << f.out << ": " << r.mesh.points.size() << " points, " << r.mesh.triangles.size()
-              << " triangles, " << model.faces.size() - r.failed.size() - r.degenerate.size() << "/" << model.faces.size()
+              << " triangles, " << model.faces.size() - r.failed.size() - r.degenerate.size() - r.collapsed.size() << "/" << model.faces.size()
               << " faces meshed in " << t_mesh << " s";
     if (!r.degenerate.empty()) std::cerr << " (" << r.degenerate.size() << " degenerate)";
+    if (!r.collapsed.empty()) std::cerr << " (" << r.collapsed.size() << " collapsed strips)";
     if (!f.report.empty()) std::cerr << ", " << free_edges << " free / " << nonman << " non-manifold edges";
     std::cerr << "\n";
   }

@@ -912,17 +912,24 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       if (!has[v]) m3[v] = field.metric3(lm.uv[v].x, lm.uv[v].y) * lm.scale[v], has[v] = 1;
       return m3[v];
     };
+    // Each edge once. An edge of two triangles is seen from both: counted from the one
+    // where it runs a < b; an edge of one triangle (on the face's boundary) always. Both
+    // ends on the boundary does not make an edge a boundary edge: a chord across a
+    // narrow face joins two boundary nodes and has two triangles (counted twice before,
+    // which weighed a strip of chords double: occt_mesh_artifact's face 8).
+    const EdgeUses uses(lm);
     for (const auto& t : lm.tris)
       for (int i = 0; i < 3; ++i) {
         const int a = t[i], b = t[(i + 1) % 3];
-        // Each interior edge is seen from both triangles: count it from the one where it
-        // runs a < b; a boundary edge has one triangle here, count it always.
+        if (a > b) {
+          const auto [lo, hi] = uses.of(a, b);
+          if (hi - lo > 1) continue;
+        }
         const geom::Vec3 d = lm.p[b] - lm.p[a];
         const double la = metric_at(a).length(d), lb = metric_at(b).length(d);
         const double ratio = la > 0 ? lb / la : 1.0;
         const double L =
             (std::abs(ratio - 1) < 1e-3 || !(ratio > 0)) ? 0.5 * (la + lb) : (lb - la) / std::log(ratio);
-        if (a > b && !(lm.fixed[a] && lm.fixed[b])) continue;
         ++out.stats.edges;
         if (L < std::sqrt(0.5)) ++out.stats.short_edges;
         else if (L > std::sqrt(2.0)) ++out.stats.long_edges;

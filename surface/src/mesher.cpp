@@ -12,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <numbers>
@@ -63,6 +64,37 @@ void parallel_indices(tbb::task_arena& arena, std::size_t n, F&& f) {
       for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
     });
   });
+}
+
+// Parameter of c in [lo, hi] closest to x: the best of 64 samples, then golden-section
+// search between its two neighbours (the curves this is used on are within a fraction of
+// a segment of x, so the distance is unimodal there).
+double closest_param(const geom::Curve& c, double lo, double hi, const geom::Vec3& x) {
+  constexpr int kSamples = 64;
+  int best = 0;
+  double dbest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= kSamples; ++k) {
+    const double d = glm::length(c.point(lo + (hi - lo) * k / kSamples) - x);
+    if (d < dbest) dbest = d, best = k;
+  }
+  double a = lo + (hi - lo) * std::max(0, best - 1) / kSamples, b = lo + (hi - lo) * std::min(kSamples, best + 1) / kSamples;
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  for (int it = 0; it < 60 && b - a > 1e-15 * std::max(1.0, std::abs(b)); ++it) {
+    const double t1 = b - g * (b - a), t2 = a + g * (b - a);
+    if (glm::length(c.point(t1) - x) < glm::length(c.point(t2) - x)) b = t2;
+    else a = t1;
+  }
+  return 0.5 * (a + b);
+}
+
+// Largest distance from points of a's curve to b's curve (33 samples, ends included).
+double one_sided_distance(const geom::Edge& a, const geom::Edge& b) {
+  double d = 0;
+  for (int k = 0; k <= 32; ++k) {
+    const geom::Vec3 x = a.curve->point(a.range.at(k / 32.0));
+    d = std::max(d, glm::length(b.curve->point(closest_param(*b.curve, b.range.lo, b.range.hi, x)) - x));
+  }
+  return d;
 }
 
 }  // namespace
@@ -311,6 +343,110 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       }
     }
 
+  // Strips narrower than the proximity floor, collapsed onto one curve. A face bounded by
+  // two edges between the same two vertices (a lens), no more than proximity_floor() --
+  // or the two edges' tolerance floor, when larger -- apart anywhere, is narrower than
+  // any gap the sizes resolve (BoundaryCaps::cap): meshed, it can only be
+  // a row of slivers across its width (occt_mesh_artifact: face 2, a planar step 7.9e-6
+  // wide and 0.029 long, and face 6, at most 9.7e-6 wide, against a floor of 5.1e-5; 20
+  // triangles of Q up to 580, 2.5% of the mesh). Resolving it instead would need
+  // elements as small as the width along the whole strip, graded over both faces beside
+  // it: tens of thousands of triangles for a feature the sizes were told to ignore. So
+  // the strip is not meshed, and its two edges become one polyline: the edge with more
+  // nodes keeps them (primary), the other (secondary) takes the same global nodes at
+  // the parameters of its own curve closest to them, so the faces on either side meet
+  // along it by index and the solid stays closed. The geometric error is the strip's
+  // width, below hmin / 100 and a tenth of the chordal tolerance. Only a two-edge strip
+  // whose edges each bound one other face, two different ones, is collapsed: a strip
+  // with end edges, or a slit of one face, would need more than one edge identified.
+  std::vector<geom::Id> primary_of(ne, geom::kNone);  // secondary edge -> its primary
+  std::vector<char> collapsed(nf, 0);
+  {
+    const double floor = proximity_floor(spec, std::max(m.bbox.diagonal(), 1e-300));
+    std::vector<std::vector<geom::Id>> faces_of(ne);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (const geom::Loop& l : m.faces[f].loops)
+        for (const geom::EdgeUse& u : l.uses)
+          if (u.edge >= 0) faces_of[static_cast<std::size_t>(u.edge)].push_back(static_cast<geom::Id>(f));
+    std::vector<char> involved(ne, 0);
+    for (std::size_t f = 0; f < nf; ++f) {
+      const geom::Face& face = m.faces[f];
+      if (face.degenerate || !face_error[f].empty() || twin_of[f] != geom::kNone || face.loops.size() != 1) continue;
+      const auto& uses = face.loops[0].uses;
+      if (uses.size() != 2 || uses[0].internal || uses[1].internal) continue;
+      const auto ea = static_cast<std::size_t>(uses[0].edge), eb = static_cast<std::size_t>(uses[1].edge);
+      if (ea == eb || involved[ea] || involved[eb] || !edge_error[ea].empty() || !edge_error[eb].empty()) continue;
+      const geom::Edge &a = m.edges[ea], &b = m.edges[eb];
+      if (a.degenerate || b.degenerate || !a.curve || !b.curve || a.v0 == geom::kNone || a.v1 == geom::kNone ||
+          a.v0 == a.v1 || !((a.v0 == b.v0 && a.v1 == b.v1) || (a.v0 == b.v1 && a.v1 == b.v0)))
+        continue;
+      // Each edge: this face and exactly one other, and the two others differ.
+      auto other = [&](std::size_t e) {
+        geom::Id o = geom::kNone;
+        int n = 0;
+        for (geom::Id g : faces_of[e])
+          if (g != static_cast<geom::Id>(f)) o = g, ++n;
+        return std::pair{o, n + 1 == static_cast<int>(faces_of[e].size()) ? n : -1};
+      };
+      const auto [oa, na] = other(ea);
+      const auto [ob, nb] = other(eb);
+      if (na != 1 || nb != 1 || oa == ob || collapsed[static_cast<std::size_t>(oa)] || collapsed[static_cast<std::size_t>(ob)])
+        continue;
+      double width = 0;
+      try {
+        width = std::max(one_sided_distance(a, b), one_sided_distance(b, a));
+      } catch (...) {
+        continue;
+      }
+      // The narrowest gap the sizes resolve between these two edges is BoundaryCaps' gap
+      // floor: the proximity floor, or the two edges' tolerance floor when that is larger
+      // (a gap inside the tolerance tubes is not refined at all, kGapToleranceFactor).
+      const double gap_floor =
+          std::max(floor, kGapToleranceFactor * (gap_tolerance(m, static_cast<geom::Id>(ea)) +
+                                                 gap_tolerance(m, static_cast<geom::Id>(eb))));
+      // The faces beside the strip then meet at its primary edge, up to `width` off the
+      // secondary's face: with a chordal tolerance, only a strip much narrower than it
+      // (a tenth: the chords along the primary may use 0.9 of it, see the 1D repair).
+      if (!(width <= gap_floor) || (opt.size.chordal_tol > 0 && !(width <= 0.1 * opt.size.chordal_tol))) continue;
+      const bool a_first = edges[ea].t.size() > edges[eb].t.size() || (edges[ea].t.size() == edges[eb].t.size() && ea < eb);
+      const std::size_t pe = a_first ? ea : eb, se = a_first ? eb : ea;
+      primary_of[se] = static_cast<geom::Id>(pe);
+      involved[ea] = involved[eb] = 1;
+      collapsed[f] = 1;
+      std::ostringstream os;
+      os << "a strip between edges " << pe << " and " << se << " at most " << width
+         << " wide, narrower than the proximity floor " << gap_floor
+         << (gap_floor > floor ? " (the edges' tolerances)" : " (hmin / 100)") << ": edge " << se
+         << " takes the nodes of edge " << pe << ", faces " << (a_first ? ob : oa) << " and " << (a_first ? oa : ob)
+         << " meet there";
+      res.collapsed.push_back({static_cast<geom::Id>(f), os.str()});
+    }
+  }
+  // The secondary's parameters: those of its curve closest to the primary's nodes, in
+  // its own direction (again after a crossing round refined the primary).
+  auto sync_secondaries = [&] {
+    for (std::size_t se = 0; se < ne; ++se) {
+      if (primary_of[se] == geom::kNone) continue;
+      const auto pe = static_cast<std::size_t>(primary_of[se]);
+      const geom::Edge &P = m.edges[pe], &S = m.edges[se];
+      const bool same = P.v0 == S.v0;
+      const std::vector<double>& tp = edges[pe].t;
+      const std::size_t n = tp.size();
+      std::vector<double> ts(n);
+      ts.front() = S.range.lo;
+      ts.back() = S.range.hi;
+      double lo = S.range.lo;
+      for (std::size_t i = 1; i + 1 < n; ++i) {
+        const geom::Vec3 x = P.curve->point(tp[same ? i : n - 1 - i]);
+        // Searched beyond the previous node only, so the parameters increase.
+        ts[i] = closest_param(*S.curve, lo, S.range.hi, x);
+        lo = ts[i];
+      }
+      edges[se].t = std::move(ts);
+    }
+  };
+  sync_secondaries();
+
   // Curves and faces, repeated when a face's (u,v) boundary crossed itself: the edges
   // named are refined (their (u,v) polylines then follow the pcurves more closely) and
   // the model is meshed again -- edge nodes are shared, so every face must see them.
@@ -351,10 +487,21 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       en.node.back() = ed.v1 != geom::kNone ? static_cast<NodeId>(ed.v1) : en.node.front();
       continue;
     }
+    if (primary_of[e] != geom::kNone) continue;  // its primary's nodes, below
     for (std::size_t i = 1; i + 1 < n; ++i)
       en.node[i] = add_point(ed.curve->point(en.t[i]), 1, static_cast<geom::Id>(e), en.t[i]);
     en.node.back() = ed.v1 == ed.v0 && ed.v0 == geom::kNone ? en.node.front() : end_node(ed.v1, en.t.back());
     for (std::size_t i = 0; i + 1 < n; ++i) M.segments.push_back({en.node[i], en.node[i + 1], static_cast<geom::Id>(e)});
+  }
+  // A collapsed strip's secondary edge: the primary's nodes in its own direction, and no
+  // segments of its own (they would be the primary's again).
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (primary_of[e] == geom::kNone) continue;
+    const auto pe = static_cast<std::size_t>(primary_of[e]);
+    const std::vector<NodeId>& pn = edges[pe].node;
+    auto& sn = edges[e].node;
+    sn.assign(pn.begin(), pn.end());
+    if (m.edges[pe].v0 != m.edges[e].v0) std::reverse(sn.begin(), sn.end());
   }
   if (round == 0) res.stages.push_back({"curves", seconds_since(t0)});
 
@@ -364,7 +511,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   std::atomic<int> done{0};
   const std::vector<geom::Vec3>& node_points = M.points;
   parallel_indices(arena, nf, [&](std::size_t f) {
-    if (!face_error[f].empty() || twin_of[f] != geom::kNone || m.faces[f].degenerate) return;
+    if (!face_error[f].empty() || twin_of[f] != geom::kNone || m.faces[f].degenerate || collapsed[f]) return;
     const auto tf = Clock::now();
     // A face's size field lives while its face is meshed only (memory: one grid per face
     // of a model with thousands of faces); a later crossing round builds it again.
@@ -392,9 +539,23 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   for (const auto& F : fm) refine.insert(F.refine_at.begin(), F.refine_at.end());
   if (refine.empty() || round == kCrossingRounds) break;
   std::set<geom::Id> touched;
-  for (const auto& [e, t] : refine) {
-    const auto ei = static_cast<std::size_t>(e);
+  for (auto [e, t] : refine) {
+    auto ei = static_cast<std::size_t>(e);
     if (m.edges[ei].degenerate) continue;
+    if (primary_of[ei] != geom::kNone) {
+      // A secondary's piece is its primary's piece of the same index (counted from the
+      // other end when they run opposite ways); sync_secondaries() follows.
+      const auto& st = edges[ei].t;
+      const auto it = std::upper_bound(st.begin(), st.end(), t);
+      if (it == st.begin() || it == st.end()) continue;
+      const auto i = static_cast<std::size_t>(it - st.begin() - 1);
+      const auto pe = static_cast<std::size_t>(primary_of[ei]);
+      const auto& pt = edges[pe].t;
+      const std::size_t k = m.edges[pe].v0 == m.edges[ei].v0 ? i : pt.size() - 2 - i;
+      t = 0.5 * (pt[k] + pt[k + 1]);
+      ei = pe;
+      e = static_cast<geom::Id>(pe);
+    }
     auto& ts = edges[ei].t;
     const auto it = std::lower_bound(ts.begin(), ts.end(), t);
     if (it == ts.begin() || it == ts.end() || *it == t) continue;
@@ -402,6 +563,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     touched.insert(e);
   }
   if (touched.empty()) break;
+  sync_secondaries();
   res.warnings.push_back("round " + std::to_string(round + 1) + ": " + std::to_string(refine.size()) +
                          " piece(s) of " + std::to_string(touched.size()) +
                          " edge(s) split where (u,v) boundaries crossed; model meshed again");
@@ -454,7 +616,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   {
     std::size_t add_points = 0, add_tris = 0;
     for (std::size_t f = 0; f < nf; ++f)
-      if (face_error[f].empty() && twin_of[f] == geom::kNone && !m.faces[f].degenerate) add_points += fm[f].points.size(), add_tris += fm[f].tris.size();
+      if (face_error[f].empty() && twin_of[f] == geom::kNone && !m.faces[f].degenerate && !collapsed[f]) add_points += fm[f].points.size(), add_tris += fm[f].tris.size();
     M.points.reserve(M.points.size() + add_points);
     M.point_dim.reserve(M.points.capacity());
     M.point_entity.reserve(M.points.capacity());
@@ -477,7 +639,7 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       res.degenerate.push_back({static_cast<geom::Id>(f), m.faces[f].degenerate_reason});
       continue;
     }
-    if (twin_of[f] != geom::kNone) continue;
+    if (twin_of[f] != geom::kNone || collapsed[f]) continue;
     detail::FaceMesh& F = fm[f];
     const auto base = static_cast<NodeId>(M.points.size());
     for (std::size_t k = 0; k < F.points.size(); ++k) {

@@ -115,6 +115,14 @@ struct MeshResult {
   /// (geom::Face::degenerate), with the measurements that say so. Not failures: by the
   /// model's own tolerances such a face is a curve, not a surface.
   std::vector<FaceFailure> degenerate;
+  /// Strips not meshed because they are narrower than proximity_floor(): a face of two
+  /// edges between the same two vertices, nowhere farther apart than the floor, or than
+  /// kGapToleranceFactor times the sum of their gap_tolerance()s when that is larger (nor
+  /// than a tenth of the chordal tolerance, when one is set). Its two edges share one set of
+  /// nodes (the faces on either side meet along it; the solid stays closed); its
+  /// triangles could only have been slivers. Not failures; the reason gives the edges,
+  /// the width and the floor.
+  std::vector<FaceFailure> collapsed;
   bool ok() const { return failed.empty(); }
   /// Share of unit edges over all faces (FaceStats::unit_edges / edges).
   double unit_edge_share() const;
