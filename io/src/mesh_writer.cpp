@@ -356,10 +356,12 @@ std::string validate(const SurfaceMesh& m, const geom::Model* model, Counts& c) 
 // Physical groups: a solver addresses boundary conditions and materials through them.
 // Volume group per solid (tag = solid id + 1); surface groups per distinct face name
 // (tags 1.. in order of first appearance), so that faces a CAD user named alike (e.g.
-// "inlet") form one group. Once any element carries a physical tag, every element must:
-// Gmsh re-saves only grouped elements, and meshio rejects a file where some element
-// blocks have physical tags and others not. So with named faces, the unnamed ones form
-// "unnamed_faces", and the model edges and vertices one group each.
+// "inlet") form one group. Once the file has any physical group, every element must be
+// in one: Gmsh re-saves only grouped elements (Mesh.SaveAll off, its default), and meshio
+// rejects a file where some element blocks have physical tags and others not. So with
+// named faces or a solid, the unnamed faces form "unnamed_faces", and the model edges
+// and vertices one group each. (A solid's volume group alone left every triangle
+// ungrouped: `gmsh part.msh -0 -o copy.msh` wrote an empty mesh.)
 struct Physicals {
   std::vector<std::int64_t> face_group;           ///< per face: its surface group tag, 0 for none
   std::vector<std::string> face_names;            ///< surface group tag - 1 -> name
@@ -384,7 +386,7 @@ Physicals physicals(const geom::Model* model, const Counts& c, bool on) {
     if (fresh) p.face_names.push_back(name);
     p.face_group[f] = it->second;
   }
-  if (!p.face_names.empty()) {
+  if (!p.face_names.empty() || !model->solids.empty()) {
     const auto unnamed = static_cast<std::int64_t>(p.face_names.size()) + 1;
     bool any = false;
     for (std::int64_t& g : p.face_group)

@@ -3,6 +3,7 @@
 // reference tools (meshio, Gmsh, TetGen, draco_decoder); corrupt and truncated files give
 // located errors. The browser test of .glb is test_glb_browser.cpp.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -430,6 +431,49 @@ TEST_CASE("mesh formats: the files Gmsh itself writes read back with the same co
       if (std::string(o.file) == "g.stl")  // floats
         for (auto& p : want) p = geom::Vec3(glm::vec3(p));
       CHECK(sorted(got) == sorted(want));
+    }
+  }
+}
+
+// Regression: a model with a solid and no face names wrote the solid's volume group
+// only; Gmsh re-saves only the elements of physical groups (Mesh.SaveAll off, its
+// default), so `gmsh part.msh -0 -o copy.msh` gave an empty mesh (scripts/corpus.sh failed
+// every solid on "gmsh reads 0 triangles from .msh").
+TEST_CASE("mesh formats: with a solid and unnamed faces every element is in a physical group",
+          "[io][mesh_formats]") {
+  TempDir dir("mesh_formats");
+  const Cube cube = make_cube(3);
+  REQUIRE(cube.model.solids.size() == 1);
+  for (const auto& f : cube.model.faces) REQUIRE(f.name.empty());
+  struct Form {
+    const char* file;
+    io::Encoding enc;
+    std::optional<io::MeshFormat> fmt;
+  };
+  for (const Form& f : {Form{"u.msh", io::Encoding::Ascii, {}}, Form{"ub.msh", io::Encoding::Binary, {}},
+                        Form{"u22.msh", io::Encoding::Default, io::MeshFormat::Msh22}}) {
+    SECTION(f.file) {
+      const std::string src = write_as(dir, cube, f.file, f.enc, f.fmt);
+      const io::MeshReadResult r0 = io::read_mesh(src);
+      INFO(r0.error);
+      REQUIRE(r0.ok);
+      std::vector<std::string> groups;
+      for (const auto& p : r0.physicals)
+        groups.push_back(std::to_string(p.dim) + " " + std::to_string(p.tag) + " " + p.name);
+      CHECK(std::find(groups.begin(), groups.end(), "2 1 unnamed_faces") != groups.end());
+      CHECK(std::find(groups.begin(), groups.end(), "1 1 model_edges") != groups.end());
+      CHECK(std::find(groups.begin(), groups.end(), "0 1 model_vertices") != groups.end());
+      // Gmsh's own re-save, without -save_all, keeps every triangle and segment.
+      const std::string back = dir.file(std::string("resaved_") + f.file);
+      const Run g = run("gmsh " + quoted(src) + " -0 -format msh22 -o " + quoted(back));
+      INFO(g.out);
+      REQUIRE(g.status == 0);
+      const io::MeshReadResult r = io::read_mesh(back);
+      INFO(r.error);
+      REQUIRE(r.ok);
+      CHECK(r.mesh.triangles.size() == cube.mesh.triangles.size());
+      CHECK(r.mesh.segments.size() == cube.mesh.segments.size());
+      CHECK(r.mesh.points.size() == cube.mesh.points.size());
     }
   }
 }
