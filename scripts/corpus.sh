@@ -5,7 +5,9 @@
 #   - uvmesh exits 0 with every face meshed and writes .msh .mesh .stl .obj .vtk and --report
 #     (one run a format while `mesh` takes a single -o);
 #   - for closed solids: 0 free edges, and 0 non-manifold edges where the CAD model has none
-#     (from the report and, on mesh.msh, from grade_mesh.py), and TetGen (-pY) fills it;
+#     (from the report and, on mesh.msh, from grade_mesh.py; for an assembly of two or more
+#     solids, made conforming, each solid on its own: the report's topology.solids), and
+#     TetGen (-pY) fills it;
 #   - 0 self-intersections; chordal max <= its tolerance (when one is set); unit-edge share >= 0.9;
 #     share of triangles with Q < 1.5 >= 0.95;
 #   - meshio reads every output file, and gmsh every one it has a reader for (not .obj),

@@ -67,6 +67,8 @@ REPORT = {
     # of those, pairs where the model's own surfaces intersect too (surface::
     # pairs_intersecting_in_model: an input defect the mesh follows; a lower bound)
     "self_intersections_in_model": "topology.self_intersections_in_model",
+    # per solid, each solid's triangles on their own: closed, free and non-manifold edges
+    "solids_topology": "topology.solids",
 }
 # `uvmesh info MODEL --json`
 INFO = {
@@ -776,10 +778,23 @@ def judge_variant(ctx, model, info, vname, extra):
         elif not ok(v):
             why.append(text % v)
 
+    # An assembly of touching solids is made conforming (uvmesh mesh --conform, the
+    # default): each interface is meshed once and shared by two solids, so the whole mesh
+    # has non-manifold edges where an interface meets the outside, by construction. The
+    # acceptance asks it of every closed solid: each solid's triangles on their own must
+    # have no free and no non-manifold edge (the report's topology.solids).
+    per_solid = get(rep, "solids_topology", REPORT) or []
+    assembly = len(per_solid) >= 2
     if closed:
         need("free_edges", lambda v: v == 0, "%s free edges")
-        if manifold:
+        if manifold and not assembly:
             need("non_manifold_edges", lambda v: v == 0, "%s non-manifold edges")
+        for so in per_solid:
+            if not so.get("closed"):
+                continue
+            if so.get("free_edges") or so.get("non_manifold_edges"):
+                why.append("solid %s: %s free / %s non-manifold edges" % (
+                    so.get("solid"), so.get("free_edges"), so.get("non_manifold_edges")))
     si_model = get(rep, "self_intersections_in_model", REPORT)
     need("self_intersections", lambda v: v == 0,
          "%%s self-intersections (%d where the CAD surfaces intersect too)" % si_model if si_model
@@ -810,7 +825,7 @@ def judge_variant(ctx, model, info, vname, extra):
         else:
             if closed and get(g, "free_edges", GRADE):
                 why.append("mesh.msh has %s free edges (grade_mesh.py)" % get(g, "free_edges", GRADE))
-            if closed and manifold and get(g, "non_manifold_edges", GRADE):
+            if closed and manifold and not assembly and get(g, "non_manifold_edges", GRADE):
                 why.append("mesh.msh has %s non-manifold edges (grade_mesh.py)" % get(g, "non_manifold_edges", GRADE))
             if closed and not get(g, "tetgen_ok", GRADE):
                 why.append("tetgen -pY rejects the surface: %s" % get(g, "tetgen_msg", GRADE))
