@@ -53,7 +53,7 @@ namespace uvmesh::surface::detail {
 
 BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t,
                            const param::SizeSpec& spec)
-    : poly_(m.edges.size()), face_edges_(m.faces.size()), edge_faces_(m.edges.size()) {
+    : poly_(m.edges.size()) {
   beta_ = std::max(1.0, spec.gradation);
   const double D = std::max(m.bbox.diagonal(), 1e-300);
   // hmin bounds the curvature and gradation sizes; a face narrower than hmin (a chamfer
@@ -96,13 +96,15 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
       P.groups.push_back(g);
     }
   }
+  std::vector<std::vector<geom::Id>> face_edges(m.faces.size());  // distinct non-degenerate edges per face
+  std::vector<std::vector<geom::Id>> edge_faces(m.edges.size());  // distinct faces per edge
   for (std::size_t f = 0; f < m.faces.size(); ++f)
     for (const geom::Loop& l : m.faces[f].loops)
       for (const geom::EdgeUse& u : l.uses) {
         if (u.edge < 0 || poly_[static_cast<std::size_t>(u.edge)].p.empty()) continue;
-        auto& fe = face_edges_[f];
+        auto& fe = face_edges[f];
         if (std::find(fe.begin(), fe.end(), u.edge) == fe.end()) fe.push_back(u.edge);
-        auto& ef = edge_faces_[static_cast<std::size_t>(u.edge)];
+        auto& ef = edge_faces[static_cast<std::size_t>(u.edge)];
         if (std::find(ef.begin(), ef.end(), static_cast<geom::Id>(f)) == ef.end())
           ef.push_back(static_cast<geom::Id>(f));
       }
@@ -112,8 +114,8 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
   nbrs_.resize(m.edges.size());
   for (std::size_t e = 0; e < m.edges.size(); ++e) {
     const EdgePoly& self = poly_[e];
-    for (geom::Id f : edge_faces_[e])
-      for (geom::Id oe : face_edges_[static_cast<std::size_t>(f)]) {
+    for (geom::Id f : edge_faces[e])
+      for (geom::Id oe : face_edges[static_cast<std::size_t>(f)]) {
         if (static_cast<std::size_t>(oe) == e) continue;
         const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
         // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor).

@@ -77,6 +77,14 @@ class BoundaryCaps {
   BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t, const param::SizeSpec& spec);
   /// Bound of the size at x on edge e (tangent: unit tangent of e at x), at most h.
   double cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent, double h) const;
+  /// True when cap(e, ...) reads edge o: o is another edge of a face around e. What it
+  /// reads of o is o's nodes; nothing else of the 1D mesh.
+  template <class Pred>
+  bool any_neighbour(geom::Id e, Pred&& pred) const {
+    for (const Neighbour& nb : nbrs_[static_cast<std::size_t>(e)])
+      if (pred(nb.edge)) return true;
+    return false;
+  }
 
  private:
   struct EdgePoly {
@@ -98,8 +106,6 @@ class BoundaryCaps {
   };
   static constexpr std::size_t kChunk = 16;
   std::vector<EdgePoly> poly_;
-  std::vector<std::vector<geom::Id>> face_edges_;  ///< distinct non-degenerate edges per face
-  std::vector<std::vector<geom::Id>> edge_faces_;  ///< distinct faces per edge
   struct Neighbour {
     geom::Id edge;       ///< another edge of a face around this one
     double gap_floor;    ///< a gap below this is none (proximity floor, the two CAD tolerances)

@@ -233,26 +233,11 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   // each round caps every edge by the previous round's 1D mesh; a refined edge is a new
   // source for its neighbours, hence more than one round.
   //
-  // The caps of edge e read only the other edges of the faces around e (BoundaryCaps::cap),
-  // so from the second round on an edge none of whose neighbours changed in the last
-  // round would be discretized exactly as before: it is skipped. (On kicad_tantalum_c,
-  // whose 1 um strip refines two long edges, the rounds were a third of the run.)
-  std::vector<std::vector<geom::Id>> nbrs(ne);
-  {
-    std::vector<std::vector<geom::Id>> face_edges(m.faces.size());
-    for (std::size_t f = 0; f < m.faces.size(); ++f)
-      for (const geom::Loop& l : m.faces[f].loops)
-        for (const geom::EdgeUse& u : l.uses)
-          if (u.edge >= 0) face_edges[f].push_back(u.edge);
-    for (std::size_t f = 0; f < m.faces.size(); ++f)
-      for (const geom::Id e : face_edges[f])
-        for (const geom::Id o : face_edges[f])
-          if (o != e) nbrs[static_cast<std::size_t>(e)].push_back(o);
-    for (auto& v : nbrs) {
-      std::sort(v.begin(), v.end());
-      v.erase(std::unique(v.begin(), v.end()), v.end());
-    }
-  }
+  // The caps of edge e read only the nodes of the other edges of the faces around e
+  // (BoundaryCaps::any_neighbour), so from the second round on an edge none of whose
+  // neighbours changed in the last round would be discretized exactly as before: it is
+  // skipped. (On kicad_tantalum_c, whose 1 um strip refines two long edges, the rounds
+  // were a third of the run.)
   std::vector<char> moved(ne, 1);  // the edge's nodes changed in the last round
   for (int round = 0; round < opt.boundary_size_rounds; ++round) {
     std::vector<std::vector<double>> ts(ne);
@@ -262,8 +247,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     std::vector<char> now(ne, 0);
     parallel_indices(arena, ne, [&](std::size_t e) {
       if (!edge_error[e].empty()) return;
-      if (round > 0 && std::none_of(nbrs[e].begin(), nbrs[e].end(),
-                                    [&](geom::Id o) { return moved[static_cast<std::size_t>(o)] != 0; }))
+      if (round > 0 && !caps.any_neighbour(static_cast<geom::Id>(e),
+                                           [&](geom::Id o) { return moved[static_cast<std::size_t>(o)] != 0; }))
         return;
       try {
         std::vector<double> nt = disc.discretize(static_cast<geom::Id>(e), &caps);
