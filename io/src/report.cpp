@@ -179,6 +179,8 @@ std::vector<CheckData::SolidTopology> solid_topology(const SurfaceMesh& m, const
       for (geom::Id f : model.shells[static_cast<std::size_t>(sh)].faces)
         if (f >= 0 && static_cast<std::size_t>(f) < in.size()) in[static_cast<std::size_t>(f)] = 1;
     }
+    for (std::size_t f = 0; f < in.size(); ++f)
+      if (in[f]) st.faces.push_back(static_cast<geom::Id>(f));
     std::map<std::pair<NodeId, NodeId>, int> count;
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       const geom::Id f = t < m.triangle_face.size() ? m.triangle_face[t] : geom::kNone;
@@ -225,7 +227,23 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
           d.intersections->pairs.size() < d.intersections->intersecting_pairs
               ? surface::find_self_intersections(m, static_cast<int>(d.intersections->intersecting_pairs), opt.threads)
               : *d.intersections;
-      d.intersections_in_model = surface::pairs_intersecting_in_model(m, *model, all.pairs).size();
+      const std::vector<std::size_t> in_model = surface::pairs_intersecting_in_model(m, *model, all.pairs);
+      d.intersections_in_model = in_model.size();
+      std::vector<char> proven(all.pairs.size(), 0);
+      for (std::size_t k : in_model) proven[k] = 1;
+      for (auto& s : d.solids) {
+        std::size_t n = 0, n_model = 0;
+        for (std::size_t k = 0; k < all.pairs.size(); ++k) {
+          const auto& p = all.pairs[k];
+          if (std::binary_search(s.faces.begin(), s.faces.end(), p.f0) &&
+              std::binary_search(s.faces.begin(), s.faces.end(), p.f1))
+            ++n, n_model += proven[k];
+        }
+        s.self_intersections = n;
+        s.self_intersections_in_model = n_model;
+      }
+    } else {
+      for (auto& s : d.solids) s.self_intersections = s.self_intersections_in_model = 0;
     }
   }
   // With a model, bad triangles across gaps narrower than the mesher's proximity floor
@@ -353,14 +371,18 @@ nlohmann::json report_json(const CheckData& d) {
     topo["free_edges_on_open_model_edges"] = *d.free_edges_on_open_model_edges;
   if (!d.solids.empty()) {
     nlohmann::json so = nlohmann::json::array();
-    std::size_t bad = 0;
+    std::size_t not_watertight = 0;
     for (const auto& s : d.solids) {
-      so.push_back({{"solid", s.solid}, {"closed", s.closed}, {"triangles", s.triangles},
-                    {"free_edges", s.free_edges}, {"non_manifold_edges", s.non_manifold_edges}});
-      bad += s.closed && (s.free_edges > 0 || s.non_manifold_edges > 0);
+      nlohmann::json one = {{"solid", s.solid},         {"closed", s.closed},
+                            {"triangles", s.triangles}, {"free_edges", s.free_edges},
+                            {"non_manifold_edges", s.non_manifold_edges}, {"faces", s.faces}};
+      if (s.self_intersections) one["self_intersections"] = *s.self_intersections;
+      if (s.self_intersections_in_model) one["self_intersections_in_model"] = *s.self_intersections_in_model;
+      so.push_back(one);
+      not_watertight += s.closed && (s.free_edges > 0 || s.non_manifold_edges > 0);
     }
     topo["solids"] = so;
-    topo["closed_solids_not_watertight"] = bad;
+    topo["closed_solids_not_watertight"] = not_watertight;
   }
   if (d.intersections) {
     topo["self_intersections"] = d.intersections->intersecting_pairs;

@@ -207,6 +207,20 @@ int run_check(const CheckFlags& f) {
                       ? " (" + std::to_string(*d.intersections_in_model) + " where the model's own surfaces intersect)"
                       : std::string())
               << "\n";
+  // A solid's own triangles, what a volume mesher fills: a stray sheet or a second body
+  // crossing it is counted above but not here.
+  constexpr std::size_t kMaxSolidLines = 20;
+  for (std::size_t k = 0; k < d.solids.size() && k < kMaxSolidLines; ++k) {
+    const auto& s = d.solids[k];
+    std::cout << "solid " << s.solid << (s.closed ? "" : " (open in the model)") << ": " << s.triangles
+              << " triangles, " << s.free_edges << " free, " << s.non_manifold_edges << " non-manifold edges";
+    if (s.self_intersections)
+      std::cout << ", " << *s.self_intersections << " self-intersections ("
+                << s.self_intersections_in_model.value_or(0) << " in the model)";
+    std::cout << "\n";
+  }
+  if (d.solids.size() > kMaxSolidLines)
+    std::cout << "(" << d.solids.size() - kMaxSolidLines << " more solids in --json)\n";
   std::cout << "quality: Q max " << q.Q_max << ", p95 " << q.Q_p95 << ", p50 " << q.Q_p50
             << "; q min " << q.q_min << ", mean " << q.q_mean << "; " << 100.0 * q.share_Q_lt_1_5
             << "% with Q < 1.5; angles " << q.min_angle_deg << " .. " << q.max_angle_deg

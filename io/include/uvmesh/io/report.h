@@ -64,6 +64,13 @@ struct CheckData {
     geom::Id solid = geom::kNone;
     bool closed = false;  ///< every shell of the solid is closed in the model
     std::size_t triangles = 0, free_edges = 0, non_manifold_edges = 0;
+    std::vector<geom::Id> faces;  ///< the faces of its shells, ascending
+    /// Intersecting pairs with both triangles on this solid's faces (with the
+    /// self-intersection search), and how many of them the model's surfaces share. A
+    /// stray sheet crossing the solid, or a second solid overlapping it, is not counted
+    /// here: the solid's own surface, what a volume mesher fills, is what must not
+    /// intersect itself.
+    std::optional<std::size_t> self_intersections, self_intersections_in_model;
   };
   std::vector<SolidTopology> solids;
   std::optional<surface::IntersectionReport> intersections;
