@@ -242,8 +242,23 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
         s.self_intersections = n;
         s.self_intersections_in_model = n_model;
       }
+      if (!d.solids.empty()) {
+        std::vector<char> in_closed(model->faces.size() + 1, 0);
+        for (const auto& s : d.solids)
+          if (s.closed)
+            for (geom::Id f : s.faces) in_closed[static_cast<std::size_t>(f)] = 1;
+        auto closed_face = [&](geom::Id f) {
+          return f >= 0 && static_cast<std::size_t>(f) < model->faces.size() && in_closed[static_cast<std::size_t>(f)];
+        };
+        std::size_t n = 0, n_model = 0;
+        for (std::size_t k = 0; k < all.pairs.size(); ++k)
+          if (closed_face(all.pairs[k].f0) && closed_face(all.pairs[k].f1)) ++n, n_model += proven[k];
+        d.intersections_in_closed_solids = n;
+        d.intersections_in_closed_solids_in_model = n_model;
+      }
     } else {
       for (auto& s : d.solids) s.self_intersections = s.self_intersections_in_model = 0;
+      if (!d.solids.empty()) d.intersections_in_closed_solids = d.intersections_in_closed_solids_in_model = 0;
     }
   }
   // With a model, bad triangles across gaps narrower than the mesher's proximity floor
@@ -391,6 +406,10 @@ nlohmann::json report_json(const CheckData& d) {
       pairs.push_back({{"t0", p.t0}, {"f0", p.f0}, {"t1", p.t1}, {"f1", p.f1}});
     topo["self_intersection_list"] = pairs;
     if (d.intersections_in_model) topo["self_intersections_in_model"] = *d.intersections_in_model;
+    if (d.intersections_in_closed_solids) {
+      topo["self_intersections_in_closed_solids"] = *d.intersections_in_closed_solids;
+      topo["self_intersections_in_closed_solids_in_model"] = d.intersections_in_closed_solids_in_model.value_or(0);
+    }
   }
   j["topology"] = topo;
 

@@ -125,6 +125,37 @@ TEST_CASE("surface mesher: two cubes sharing a face (non-manifold interface)", "
   check_solids_closed(r.mesh, m, 2);
 }
 
+TEST_CASE("check: a stray sheet crossing a closed solid is counted in the whole mesh, not in the solid's (nist_ctc_02)",
+          "[surface]") {
+  // nist_ctc_02 holds one closed solid and, in a second, open shell, one face (663) that
+  // crosses the solid's face 339. The whole mesh must intersect there; the solid's own
+  // triangles, which a volume mesher fills, must not.
+  const geom::Model m = load(data("cad/nist_ctc_02.stp"));
+  REQUIRE(m.solids.size() == 1);
+  surface::MeshOptions o = defaults(m);
+  o.size.hmax = m.bbox.diagonal() / 10;
+  const surface::MeshResult r = surface::mesh_model(m, o);
+  CHECK(r.failed.empty());
+  io::CheckOptions co;
+  co.threads = 1;
+  const io::CheckData d = io::check_mesh(r.mesh, &m, co);
+  REQUIRE(d.intersections);
+  REQUIRE(d.solids.size() == 1);
+  const auto& s = d.solids[0];
+  CHECK(s.closed);
+  CHECK(s.free_edges == 0);
+  CHECK(s.non_manifold_edges == 0);
+  CHECK(std::find(s.faces.begin(), s.faces.end(), 663) == s.faces.end());
+  CHECK(d.intersections->intersecting_pairs > 0);
+  REQUIRE(d.intersections_in_model);
+  CHECK(*d.intersections_in_model > 0);
+  for (const auto& p : d.intersections->pairs) CHECK((p.f0 == 663 || p.f1 == 663));
+  REQUIRE(s.self_intersections);
+  CHECK(*s.self_intersections == 0);
+  REQUIRE(d.intersections_in_closed_solids);
+  CHECK(*d.intersections_in_closed_solids == 0);
+}
+
 TEST_CASE("surface mesher: seam with an inner loop touching it (gmsh_cyl_loop_seam)", "[surface]") {
   accept(data("cad/gmsh_cyl_loop_seam.brep"), false);
 }
@@ -166,7 +197,7 @@ TEST_CASE("surface mesher: an embedded (INTERNAL) crack edge is a constraint ins
       const auto a = t[i], b = t[(i + 1) % 3];
       ++count[{std::min(a, b), std::max(a, b)}];
     }
-  int crack_segments = 0;
+  std::size_t crack_segments = 0;
   for (const auto& sg : r.mesh.segments)
     if (sg.edge == crack_edge) {
       ++crack_segments;

@@ -77,6 +77,11 @@ struct CheckData {
   /// With a model: how many of the intersecting pairs lie where the model's own surfaces
   /// intersect (surface::pairs_intersecting_in_model): an input defect the mesh follows.
   std::optional<std::size_t> intersections_in_model;
+  /// With a model that has solids: the intersecting pairs whose two triangles both lie on
+  /// faces of closed solids (the same solid or two of them), and how many of those the
+  /// model shares. The other pairs involve a face outside every closed solid: a sheet or
+  /// an open shell of the file.
+  std::optional<std::size_t> intersections_in_closed_solids, intersections_in_closed_solids_in_model;
   surface::QualityReport quality;
   double median_edge = 0;                  ///< 3D length of the median unique edge
   surface::EdgeLengthReport edge_lengths;  ///< lengths / median_edge (bins: check3d.h)
