@@ -690,8 +690,42 @@ def reader_checks(meshio_py, path, expected_tris, timeout):
         if tris is None:
             why.append("gmsh cannot read .%s: %s" % (ext, first_error_line(r["stderr"] + r["stdout"]) or "timeout"))
         elif expected_tris is not None and tris != expected_tris:
-            why.append("gmsh reads %d triangles from .%s, report says %d" % (tris, ext, expected_tris))
+            # STL has no shared vertices: Gmsh welds them within its Geometry.Tolerance
+            # (relative to the bounding box) and drops a triangle whose corners weld together,
+            # saying how many ("N duplicate/M degenerate triangles in STL file"). A CAD edge
+            # kept exactly (gmsh_t20_part's 8.8e-7, 1.3e-8 D, one float32 step) can be that
+            # short. That loss is Gmsh's tolerance, not the file's: accepted when the file's
+            # own float32 triangles are all proper and distinct, and Gmsh's dropped count
+            # accounts for every missing triangle.
+            m = re.search(r"(\d+) duplicate/(\d+) degenerate triangles in STL file", r["stderr"] + r["stdout"])
+            dropped = int(m.group(1)) + int(m.group(2)) if m else 0
+            if not (ext == "stl" and m and tris + dropped == expected_tris and stl_proper(path)):
+                why.append("gmsh reads %d triangles from .%s, report says %d" % (tris, ext, expected_tris))
     return why
+
+
+def stl_proper(path):
+    """A binary STL whose every triangle has three distinct float32 corners and no
+    triangle repeats another (as a set of corners). False for an ASCII or short file."""
+    import struct
+    with open(path, "rb") as f:
+        data = f.read()
+    if len(data) < 84:
+        return False
+    n = struct.unpack_from("<I", data, 80)[0]
+    if len(data) != 84 + 50 * n:
+        return False
+    seen = set()
+    for t in range(n):
+        v = struct.unpack_from("<9f", data, 84 + 50 * t + 12)
+        c = (v[0:3], v[3:6], v[6:9])
+        if c[0] == c[1] or c[1] == c[2] or c[0] == c[2]:
+            return False
+        key = tuple(sorted(c))
+        if key in seen:
+            return False
+        seen.add(key)
+    return True
 
 
 def count_msh22_triangles(path):
