@@ -7,11 +7,16 @@
 #   - for closed solids: 0 free edges, and 0 non-manifold edges where the CAD model has none
 #     (from the report and, on mesh.msh, from grade_mesh.py; for an assembly of two or more
 #     solids, made conforming, each solid on its own: the report's topology.solids), and
-#     TetGen (-pY) fills it;
-#   - 0 self-intersections; chordal max <= its tolerance (when one is set); unit-edge share >= 0.9;
-#     share of triangles with Q < 1.5 >= 0.95;
+#     TetGen (-pY) fills it (the whole mesh.msh; each closed solid's own triangles when the
+#     file also holds sheets or open shells);
+#   - 0 self-intersections: of the whole mesh when every face is on a closed solid or the
+#     model has no solid; else of the triangles on closed solids (a stray sheet crossing a
+#     solid is the file's, and is reported apart, with how many pairs the CAD shares);
+#   - chordal max <= its tolerance (when one is set); unit-edge share >= 0.9;
+#     share of triangles with Q < 1.5 >= 0.95; no triangle with Q >= 3 touching no model vertex;
 #   - meshio reads every output file, and gmsh every one it has a reader for (not .obj),
-#     each with the triangle count its run reported.
+#     each with the triangle count its run reported (for .stl: less the triangles Gmsh says
+#     its tolerance weld made degenerate, when the file's own triangles are all proper).
 # Prints one PASS/FAIL line per model with the reasons, then a summary; exits 1 when a
 # model fails, 2 when nothing could be checked (e.g. "uvmesh mesh: not available").
 #
