@@ -835,30 +835,10 @@ def judge_variant(ctx, model, info, vname, extra):
         if so.get("free_edges") or so.get("non_manifold_edges"):
             why.append("solid %s: %s free / %s non-manifold edges" % (
                 so.get("solid"), so.get("free_edges"), so.get("non_manifold_edges")))
-    # No two triangles of the closed solids may intersect: each solid's surface is what a
-    # volume mesher fills, and two solids of an assembly must not overlap. A model whose
-    # every face is on a closed solid is judged on the whole mesh. A sheet or open shell
-    # outside every closed solid (nist_ctc_02's stray face, an unsewn IGES) is meshed as
-    # the file has it: pairs involving it are reported, with how many are where the CAD
-    # surfaces cross too, but are not what the acceptance asks of a closed solid.
-    si = get(rep, "self_intersections", REPORT)
-    si_model = get(rep, "self_intersections_in_model", REPORT)
-    in_solids = get(rep, "self_intersections_in_closed_solids", REPORT)
-    in_solids_model = get(rep, "self_intersections_in_closed_solids_in_model", REPORT)
-    every_face_closed = closed and sum(len(so.get("faces", [])) for so in per_solid if so.get("closed")) >= \
-        (get(info, "faces", INFO) or 0)
-    if si is None:
-        why.append("report has no %s" % REPORT["self_intersections"])
-    elif every_face_closed or in_solids is None:
-        if si:
-            why.append("%d self-intersections%s" % (
-                si, " (%d where the CAD surfaces intersect too)" % si_model if si_model else ""))
-    else:
-        if in_solids:
-            why.append("%d self-intersections between triangles of closed solids%s" % (
-                in_solids, " (%d where the CAD surfaces intersect too)" % in_solids_model if in_solids_model else ""))
-        rec["intersections_outside_solids"] = {"pairs": si - in_solids,
-                                               "in_model": (si_model or 0) - (in_solids_model or 0)}
+    reasons, outside = intersection_reasons(rep, info, closed)
+    why += reasons
+    if outside is not None:
+        rec["intersections_outside_solids"] = outside
     tol = get(rep, "chordal_tolerance", REPORT)
     if tol is None:
         why.append("report has no %s" % REPORT["chordal_tolerance"])
@@ -913,6 +893,37 @@ def judge_variant(ctx, model, info, vname, extra):
                 why.append("solid %s: tetgen -pY rejects its surface: %s" % (so.get("solid"), get(g, "tetgen_msg", GRADE)))
             os.remove(sub)
     return rec
+
+
+def intersection_reasons(rep, info, closed):
+    """The acceptance's self-intersection test of one run: (reasons, pairs outside the
+    closed solids or None).
+
+    No two triangles of the closed solids may intersect: each solid's surface is what a
+    volume mesher fills, and two solids of an assembly must not overlap. A model whose
+    every face is on a closed solid, or that has no solid, is judged on the whole mesh. A
+    sheet or open shell beside closed solids (nist_ctc_02's stray face) is meshed as the
+    file has it: pairs involving it are returned apart, with how many are where the CAD
+    surfaces cross too, and fail nothing."""
+    why = []
+    per_solid = get(rep, "solids_topology", REPORT) or []
+    si = get(rep, "self_intersections", REPORT)
+    si_model = get(rep, "self_intersections_in_model", REPORT)
+    in_solids = get(rep, "self_intersections_in_closed_solids", REPORT)
+    in_solids_model = get(rep, "self_intersections_in_closed_solids_in_model", REPORT)
+    on_closed = sum(len(so.get("faces", [])) for so in per_solid if so.get("closed"))
+    every_face_closed = closed and on_closed >= (get(info, "faces", INFO) or 0)
+    if si is None:
+        return ["report has no %s" % REPORT["self_intersections"]], None
+    if every_face_closed or in_solids is None or not on_closed:
+        if si:
+            why.append("%d self-intersections%s" % (
+                si, " (%d where the CAD surfaces intersect too)" % si_model if si_model else ""))
+        return why, None
+    if in_solids:
+        why.append("%d self-intersections between triangles of closed solids%s" % (
+            in_solids, " (%d where the CAD surfaces intersect too)" % in_solids_model if in_solids_model else ""))
+    return why, {"pairs": si - in_solids, "in_model": (si_model or 0) - (in_solids_model or 0)}
 
 
 def medit_subset(path, faces, out):
