@@ -460,6 +460,36 @@ TEST_CASE("surface mesher: a vertex closing open edges by its tolerance alone is
     CHECK(w.find("the mesh closes it at the vertex") == std::string::npos);
 }
 
+TEST_CASE("surface mesher: boundary segments shorter than the proximity floor do not grade the interior "
+          "(occt_caxif_b1)",
+          "[surface]") {
+  // occt_caxif_b1 (D = 30561 mm, proximity floor 0.31 mm) has CAD edges of 0.00015 and
+  // 0.0028 mm (145, 156) at corners of faces 37 and 42. The 1D sizes stop at the floor, so
+  // the edges beside them start with 0.3 mm segments; the 2D mesher's boundary gradation
+  // took the tiny segments' lengths as sizes and refined the interior around them down
+  // to 0.001 mm, and fans of needles joined that to the 0.3 mm segments: interior
+  // triangles of Q 3.8 and 3.5 (one with hmax D/40, angle 30), besides the corners'.
+  const std::string file = data("cad/occt_caxif_b1.stp");
+  if (!std::ifstream(file)) {
+    WARN("skipped: " << file << " not found");
+    return;
+  }
+  const geom::Model m = load(file);
+  surface::MeshOptions fine = defaults(m);
+  fine.size.hmax = m.bbox.diagonal() / 40;
+  fine.size.angle_tol = 30 * 3.14159265358979323846 / 180;
+  const std::vector<double> edge_gap = surface::edge_gap_floors(m);
+  for (const surface::MeshOptions& o : {defaults(m), fine}) {
+    const surface::MeshResult r = surface::mesh_model(m, o);
+    CHECK(r.failed.empty());
+    const surface::QualityReport q =
+        surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+    for (const auto& b : q.bad_list) UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
+    CHECK(q.bad_away_from_corners == 0);
+    CHECK(q.share_Q_lt_1_5 >= 0.98);
+  }
+}
+
 TEST_CASE("surface mesher: faces whose pcurves cross are triangulated from their boundary when that is valid",
           "[surface]") {
   // occt_caxif_b1: slivers between two copies of one curve whose pcurves cross. Face 63
