@@ -37,6 +37,21 @@ surface::MeshOptions defaults(const geom::Model& m, int threads = 1) {
   return o;
 }
 
+// hmax D/40 and a curvature angle of 30 degrees: the README's second size set.
+surface::MeshOptions d40_angle30(const geom::Model& m) {
+  surface::MeshOptions o = defaults(m);
+  o.size.hmax = m.bbox.diagonal() / 40;
+  o.size.angle_tol = 30 * 3.14159265358979323846 / 180;
+  return o;
+}
+
+// A corpus file that is not there: the test says so and passes.
+bool missing(const std::string& file) {
+  if (std::ifstream(file)) return false;
+  WARN("skipped: " << file << " not found");
+  return true;
+}
+
 // The issue's acceptance on one model: every face meshed, watertight where the model is
 // closed, no self-intersection, shape and size targets, chordal tolerance.
 void accept(const std::string& file, bool closed, const surface::MeshOptions* opt_in = nullptr) {
@@ -407,19 +422,14 @@ TEST_CASE("surface mesher: a vertex closing open edges by its tolerance alone is
   // both solids are closed, of genus 0, without self-intersection, at the default sizes
   // and at hmax D/40, angle 30 degrees.
   const std::string file = data("cad/occt_caxif_k1.stp");
-  if (!std::ifstream(file)) {
-    WARN("skipped: " << file << " not found");
-    return;
-  }
+  if (missing(file)) return;
   const geom::Model m = load(file);
   REQUIRE(m.vertex_splits.size() == 4);
   std::set<geom::Id> from;
   for (const auto& s : m.vertex_splits) from.insert(s.from);
   CHECK(from == std::set<geom::Id>{86, 87, 126, 127});
   for (geom::Id e : {142, 144, 204, 206}) CHECK(m.edges[static_cast<std::size_t>(e)].v0 != m.edges[static_cast<std::size_t>(e)].v1);
-  surface::MeshOptions fine = defaults(m);
-  fine.size.hmax = m.bbox.diagonal() / 40;
-  fine.size.angle_tol = 30 * 3.14159265358979323846 / 180;
+  const surface::MeshOptions fine = d40_angle30(m);
   for (const surface::MeshOptions& o : {defaults(m), fine}) {
     const surface::MeshResult r = surface::mesh_model(m, o);
     CHECK(r.failed.empty());
@@ -452,7 +462,7 @@ TEST_CASE("surface mesher: a vertex closing open edges by its tolerance alone is
       CHECK(static_cast<long>(v.size()) - static_cast<long>(e.size()) + static_cast<long>(f) == 2);
     }
   }
-  if (!std::ifstream(data("cad/gmsh_torus1.brep"))) return;
+  if (missing(data("cad/gmsh_torus1.brep"))) return;
   // Circles closed within their tolerance keep their vertex, without a warning.
   const geom::Model ring = load(data("cad/gmsh_torus1.brep"));
   CHECK(ring.vertex_splits.empty());
@@ -470,14 +480,9 @@ TEST_CASE("surface mesher: boundary segments shorter than the proximity floor do
   // to 0.001 mm, and fans of needles joined that to the 0.3 mm segments: interior
   // triangles of Q 3.8 and 3.5 (one with hmax D/40, angle 30), besides the corners'.
   const std::string file = data("cad/occt_caxif_b1.stp");
-  if (!std::ifstream(file)) {
-    WARN("skipped: " << file << " not found");
-    return;
-  }
+  if (missing(file)) return;
   const geom::Model m = load(file);
-  surface::MeshOptions fine = defaults(m);
-  fine.size.hmax = m.bbox.diagonal() / 40;
-  fine.size.angle_tol = 30 * 3.14159265358979323846 / 180;
+  const surface::MeshOptions fine = d40_angle30(m);
   const std::vector<double> edge_gap = surface::edge_gap_floors(m);
   for (const surface::MeshOptions& o : {defaults(m), fine}) {
     const surface::MeshResult r = surface::mesh_model(m, o);
