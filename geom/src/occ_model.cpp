@@ -494,6 +494,9 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
       }
     }
 
+    where = "vertices closing open edges";
+    split_vertices_closing_open_edges(m);
+
     where = "bounding box";
     Bnd_Box box;
     BRepBndLib::Add(shape, box, Standard_False);

@@ -685,6 +685,7 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     res.report.validity_checked = opt.check_validity;
     res.model = geom::model_from_occ(shape, mo);
     names.apply(shape, res.model);
+    for (const geom::VertexSplit& v : res.model.vertex_splits) res.report.warnings.push_back(v.reason);
     res.report.build_seconds = seconds_since(tb);
   } catch (const Standard_Failure& f) {
     return fail("OpenCASCADE failed while " + stage + ": " + occ_message(f));

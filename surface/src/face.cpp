@@ -579,6 +579,13 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   std::vector<std::array<double, 2>> spiece;  // PSLG segment -> its piece
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<const geom::EdgeUse*> embedded;  // INTERNAL uses: open chains, added last
+  // Boundary segments shorter than the proximity floor exist only because their CAD edge
+  // is shorter than the floor (the 1D sizes stop there, proximity_floor()), and the edges
+  // beside them are not graded below it. Their length is no size to grade the interior
+  // from either: it refined the interior around them down to their length, against
+  // boundary segments at the floor, and fans of needles joined the two (occt_caxif_b1:
+  // edges of 0.00015 and 0.0028 mm, floor 0.31 mm; interior triangles of Q 3.8 and 3.5).
+  const double seg_floor = proximity_floor(opt.size, m.bbox.diagonal());
   for (const geom::Loop& loop : f.loops) {
     const auto start = static_cast<m2d::VertId>(in.points.size());
     for (const geom::EdgeUse& use : loop.uses) {
@@ -620,10 +627,14 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     for (m2d::VertId i = start; i < end; ++i) {
       const m2d::VertId j = i + 1 < end ? i + 1 : start;
       // Marker edge id + 1; negative on a pole's collapsed side, which must not impose
-      // its (u,v) length as a size (Options::boundary_gradation).
+      // its (u,v) length as a size (Options::boundary_gradation), and on a segment
+      // shorter than the proximity floor (seg_floor).
       const geom::Id ei = pedge[static_cast<std::size_t>(i)];
       const bool pole = m.edges[static_cast<std::size_t>(ei)].degenerate;
-      in.segments.push_back({i, j, pole ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
+      const bool sub_floor =
+          glm::length(node_points[static_cast<std::size_t>(gid[static_cast<std::size_t>(j)])] -
+                      node_points[static_cast<std::size_t>(gid[static_cast<std::size_t>(i)])]) < seg_floor;
+      in.segments.push_back({i, j, pole || sub_floor ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
       sedge.push_back(ei);
       spiece.push_back(piece[static_cast<std::size_t>(i)]);
     }

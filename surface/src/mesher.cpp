@@ -196,7 +196,10 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   // apart than the edge's own tolerance is closed by the vertex's tolerance alone: its
   // last node is that vertex, and the faces along it fold at the scale of the gap
   // (occt_caxif_k1: edges of 1 mm whose vertex got OCC's largest tolerance, 1 mm; 19
-  // self-intersecting pairs in each of two solids). The mesh cannot follow both; say so.
+  // self-intersecting pairs in each of two solids). The OCC import splits such a vertex
+  // in two (geom::split_vertices_closing_open_edges); one it could not split (the split
+  // would open a loop, or an edge end is about as near to both ends of the curve) is
+  // still closed here, and the mesh cannot follow both: say so.
   for (std::size_t e = 0; e < ne; ++e) {
     const geom::Edge& ed = m.edges[e];
     if (!on_face[e] || ed.degenerate || !ed.curve || ed.v0 != ed.v1 || ed.v0 == geom::kNone) continue;

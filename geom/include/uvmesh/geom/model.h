@@ -35,6 +35,13 @@ struct Vertex {
   double tol = 0.0;  ///< CAD tolerance (radius of the vertex's tolerance ball)
 };
 
+/// A vertex added by split_vertices_closing_open_edges(): `vertex` was split off `from`.
+struct VertexSplit {
+  Id vertex = kNone;
+  Id from = kNone;
+  std::string reason;
+};
+
 struct Edge {
   std::shared_ptr<const Curve> curve;  ///< null only for degenerate edges
   Interval range;                      ///< curve parameter range, v0 at lo, v1 at hi
@@ -103,6 +110,8 @@ struct Model {
   std::vector<Shell> shells;
   std::vector<Solid> solids;
   Box3 bbox;
+  /// Vertices the import split (split_vertices_closing_open_edges()), in id order.
+  std::vector<VertexSplit> vertex_splits;
 };
 
 /// What a person or a test wants to know about a model (`uvmesh info`).
@@ -135,5 +144,23 @@ ModelStats compute_stats(const Model& m, const StatsOptions& opt = {});
 
 /// For every edge, the distinct faces that use it (seam uses counted once).
 std::vector<std::vector<Id>> edge_faces(const Model& m);
+
+/// An edge whose two ends are one vertex although its curve's ends are farther apart
+/// than the edge's own tolerance is open: the file merged two distinct points into one
+/// vertex and gave it a tolerance that covers both (occt_caxif_k1: 1 mm edges closed by a
+/// vertex of tolerance 1 mm). Meshed as it is, that edge's last node is its first one,
+/// and the edges and faces that really end at its other end are pulled to the vertex:
+/// the faces fold there. Such a vertex is split: the two ends of each of these edges are
+/// the seeds of separate vertices, every other edge end at the vertex goes to the seed
+/// nearest its curve end, the seed nearest the vertex's point keeps the vertex (and its
+/// id), the others become new vertices at their seed's point, appended and listed in
+/// Model::vertex_splits. Each tolerance becomes the radius the vertex then needs: the
+/// largest distance from its point to its edges' curve ends, at least their tolerances.
+/// A vertex is left alone (and the edge stays closed) when the split is not clear-cut:
+/// a degenerate edge at it, an edge end about as near to two seeds (not within half the
+/// distance of the second nearest), or a loop of a face that would no longer chain
+/// through it (two consecutive uses whose shared end would go to different vertices,
+/// e.g. a loop made of that edge alone). Returns the number of vertices added.
+int split_vertices_closing_open_edges(Model& m);
 
 }  // namespace uvmesh::geom
