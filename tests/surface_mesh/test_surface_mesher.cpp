@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
 #include <map>
 #include <set>
 #include <string>
@@ -43,13 +42,6 @@ surface::MeshOptions d40_angle30(const geom::Model& m) {
   o.size.hmax = m.bbox.diagonal() / 40;
   o.size.angle_tol = 30 * 3.14159265358979323846 / 180;
   return o;
-}
-
-// A corpus file that is not there: the test says so and passes.
-bool missing(const std::string& file) {
-  if (std::ifstream(file)) return false;
-  WARN("skipped: " << file << " not found");
-  return true;
 }
 
 // The issue's acceptance on one model: every face meshed, watertight where the model is
@@ -453,7 +445,6 @@ TEST_CASE("surface mesher: a vertex closing open edges by its tolerance alone is
   // both solids are closed, of genus 0, without self-intersection, at the default sizes
   // and at hmax D/40, angle 30 degrees.
   const std::string file = data("cad/occt_caxif_k1.stp");
-  if (missing(file)) return;
   const geom::Model m = load(file);
   REQUIRE(m.vertex_splits.size() == 4);
   std::set<geom::Id> from;
@@ -493,7 +484,6 @@ TEST_CASE("surface mesher: a vertex closing open edges by its tolerance alone is
       CHECK(static_cast<long>(v.size()) - static_cast<long>(e.size()) + static_cast<long>(f) == 2);
     }
   }
-  if (missing(data("cad/gmsh_torus1.brep"))) return;
   // Circles closed within their tolerance keep their vertex, without a warning.
   const geom::Model ring = load(data("cad/gmsh_torus1.brep"));
   CHECK(ring.vertex_splits.empty());
@@ -511,7 +501,6 @@ TEST_CASE("surface mesher: boundary segments shorter than the proximity floor do
   // to 0.001 mm, and fans of needles joined that to the 0.3 mm segments: interior
   // triangles of Q 3.8 and 3.5 (one with hmax D/40, angle 30), besides the corners'.
   const std::string file = data("cad/occt_caxif_b1.stp");
-  if (missing(file)) return;
   const geom::Model m = load(file);
   const surface::MeshOptions fine = d40_angle30(m);
   const std::vector<double> edge_gap = surface::edge_gap_floors(m);
