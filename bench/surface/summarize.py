@@ -30,6 +30,7 @@ import os
 import re
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 import threading
@@ -707,7 +708,6 @@ def reader_checks(meshio_py, path, expected_tris, timeout):
 def stl_proper(path):
     """A binary STL whose every triangle has three distinct float32 corners and no
     triangle repeats another (as a set of corners). False for an ASCII or short file."""
-    import struct
     with open(path, "rb") as f:
         data = f.read()
     if len(data) < 84:
@@ -945,7 +945,7 @@ def medit_subset(path, faces, out):
                 if int(ref) - 1 in faces:
                     tris.append((int(a), int(b), int(c), ref))
             i += 2 + 4 * n
-        elif w in ("Edges",):
+        elif w == "Edges":
             i += 2 + 3 * int(tok[i + 1])
         elif w == "Corners":
             i += 2 + int(tok[i + 1])
