@@ -139,7 +139,8 @@ m2d::Pslg to_pslg(const SquareHole& d) {
     const auto first = static_cast<m2d::VertId>(in.points.size());
     const auto n = static_cast<m2d::VertId>(pts.size());
     for (const auto& p : pts) in.points.push_back(p);
-    for (m2d::VertId i = 0; i < n; ++i) in.segments.push_back({first + i, first + (i + 1) % n, marker});
+    for (m2d::VertId i = 0; i < n; ++i)
+      in.segments.push_back({first + i, first + (i + 1) % n, marker});
   };
   loop(d.outer, 1);
   loop(d.inner, 2);
@@ -193,7 +194,8 @@ Measure parse_result(const std::string& out) {
       std::string tok;
       while (ls >> tok) {
         const auto eq = tok.find('=');
-        if (eq != std::string::npos) kv[tok.substr(0, eq)] = std::strtod(tok.c_str() + eq + 1, nullptr);
+        if (eq != std::string::npos)
+          kv[tok.substr(0, eq)] = std::strtod(tok.c_str() + eq + 1, nullptr);
       }
     } else if (line.rfind("NOTES ", 0) == 0) {
       m.notes = line.substr(6);
@@ -273,7 +275,8 @@ int child_dt_ours(std::int64_t n) {
   m.verts = static_cast<double>(r.mesh.vertices.size());
   // Every stage of the call (wall seconds, Result::stats): where the time goes.
   m.notes = "one thread; whole call timed (Options::measure off); stages (wall s):";
-  for (const auto& st : r.stats.stages) m.notes += " " + st.name + " " + fmt("%.3g", st.seconds) + ",";
+  for (const auto& st : r.stats.stages)
+    m.notes += " " + st.name + " " + fmt("%.3g", st.seconds) + ",";
   m.notes.pop_back();
   print_result(m);
   return 0;
@@ -325,7 +328,9 @@ int run_ours(const m2d::Pslg& in, const m2d::SizeSpec& size) {
   return 0;
 }
 
-int child_iso_ours(double h) { return run_ours(to_pslg(square_hole(h)), m2d::SizeSpec::uniform(h)); }
+int child_iso_ours(double h) {
+  return run_ours(to_pslg(square_hole(h)), m2d::SizeSpec::uniform(h));
+}
 
 // h: boundary discretization and the size the quality is measured against; s: CGAL's size
 // bound (longest edge).
@@ -347,7 +352,8 @@ int child_iso_cgal(double h, double s) {
     std::vector<Cdt::Vertex_handle> vh;
     vh.reserve(loop.size());
     for (const auto& p : loop) vh.push_back(cdt.insert(p));
-    for (std::size_t i = 0; i < vh.size(); ++i) cdt.insert_constraint(vh[i], vh[(i + 1) % vh.size()]);
+    for (std::size_t i = 0; i < vh.size(); ++i)
+      cdt.insert_constraint(vh[i], vh[(i + 1) % vh.size()]);
   }
   // 0.125 bounds sin^2 of the smallest angle from below (CGAL's default, B = sqrt 2);
   // s bounds the longest edge. The seed marks the hole: its component is not meshed.
@@ -365,7 +371,8 @@ int child_iso_cgal(double h, double s) {
     v.push_back({it->point().x(), it->point().y()});
   }
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
-    if (f->is_in_domain()) t.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
+    if (f->is_in_domain())
+      t.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   orient_ccw(v, t);
   m.tris = static_cast<double>(t.size());
   m.verts = static_cast<double>(v.size());
@@ -438,8 +445,10 @@ Proc run_process(const std::vector<std::string>& args, bool merge_stderr) {
   char buf[65536];
   for (;;) {
     const ssize_t n = read(fd[0], buf, sizeof buf);
-    if (n > 0) p.out.append(buf, static_cast<std::size_t>(n));
-    else if (n == 0 || errno != EINTR) break;
+    if (n > 0)
+      p.out.append(buf, static_cast<std::size_t>(n));
+    else if (n == 0 || errno != EINTR)
+      break;
   }
   close(fd[0]);
   int status = 0;
@@ -473,7 +482,8 @@ Measure run_self(const std::vector<std::string>& child_args) {
   a.insert(a.end(), child_args.begin(), child_args.end());
   const Proc p = run_process(a, false);
   Measure m = parse_result(p.out);
-  if (p.exit_code != 0 && m.error.empty()) m.error = "child exited with " + std::to_string(p.exit_code);
+  if (p.exit_code != 0 && m.error.empty())
+    m.error = "child exited with " + std::to_string(p.exit_code);
   if (!m.error.empty()) m.ok = false;
   return m;
 }
@@ -537,7 +547,8 @@ PlainMesh read_msh22(const std::string& path) {
         const long long id = tk.integer();
         const double x = tk.num(), y = tk.num();
         tk.num();
-        if (id >= static_cast<long long>(id_to_index.size())) id_to_index.resize(static_cast<std::size_t>(id) + 1, -1);
+        if (id >= static_cast<long long>(id_to_index.size()))
+          id_to_index.resize(static_cast<std::size_t>(id) + 1, -1);
         id_to_index[static_cast<std::size_t>(id)] = static_cast<m2d::VertId>(m.v.size());
         m.v.push_back({x, y});
       }
@@ -552,7 +563,8 @@ PlainMesh read_msh22(const std::string& path) {
         std::array<long long, 4> nd{};
         for (int j = 0; j < nn; ++j) nd[static_cast<std::size_t>(j)] = tk.integer();
         if (type == 2)
-          m.t.push_back({id_to_index[static_cast<std::size_t>(nd[0])], id_to_index[static_cast<std::size_t>(nd[1])],
+          m.t.push_back({id_to_index[static_cast<std::size_t>(nd[0])],
+                         id_to_index[static_cast<std::size_t>(nd[1])],
                          id_to_index[static_cast<std::size_t>(nd[2])]});
       }
     }
@@ -602,9 +614,11 @@ void write_geo(const std::string& path, const SquareHole& d, double h, int algor
   std::vector<int> loop_ids;
   for (const auto* loop : {&d.outer, &d.inner}) {
     const int p0 = pid + 1, l0 = lid + 1;
-    for (const auto& p : *loop) f << "Point(" << ++pid << ") = {" << p.x << ", " << p.y << ", 0, " << h << "};\n";
+    for (const auto& p : *loop)
+      f << "Point(" << ++pid << ") = {" << p.x << ", " << p.y << ", 0, " << h << "};\n";
     const int n = static_cast<int>(loop->size());
-    for (int i = 0; i < n; ++i) f << "Line(" << ++lid << ") = {" << p0 + i << ", " << p0 + (i + 1) % n << "};\n";
+    for (int i = 0; i < n; ++i)
+      f << "Line(" << ++lid << ") = {" << p0 + i << ", " << p0 + (i + 1) % n << "};\n";
     f << "Curve Loop(" << loop_ids.size() + 1 << ") = {" << l0 << ":" << lid << "};\n";
     loop_ids.push_back(static_cast<int>(loop_ids.size()) + 1);
   }
@@ -624,11 +638,13 @@ bool parse_gmsh_2d_time(const std::string& log, double& wall, double& cpu) {
   return true;
 }
 
-Measure run_gmsh(const std::string& work, const SquareHole& d, double h, int algorithm, bool keep_files) {
+Measure run_gmsh(const std::string& work, const SquareHole& d, double h, int algorithm,
+                 bool keep_files) {
   Measure m;
   const std::string base = work + "/gmsh_a" + std::to_string(algorithm) + "_h" + fmt("%.6g", h);
   write_geo(base + ".geo", d, h, algorithm);
-  const Proc p = run_process({"gmsh", base + ".geo", "-2", "-nt", "1", "-format", "msh22", "-o", base + ".msh"}, true);
+  const Proc p = run_process(
+      {"gmsh", base + ".geo", "-2", "-nt", "1", "-format", "msh22", "-o", base + ".msh"}, true);
   if (p.exit_code != 0) return m.error = "gmsh exited with " + std::to_string(p.exit_code), m;
   double w = kNaN, c = kNaN;
   if (!parse_gmsh_2d_time(p.out, w, c)) return m.error = "no 'Done meshing 2D' in gmsh's log", m;
@@ -643,8 +659,8 @@ Measure run_gmsh(const std::string& work, const SquareHole& d, double h, int alg
   m.tris = static_cast<double>(pm.t.size());
   m.verts = static_cast<double>(pm.v.size());
   m.q = m2d::measure(pm.v, pm.t, m2d::SizeSpec::uniform(h));
-  m.notes = "time from gmsh log 'Done meshing 2D'; whole process " + fmt("%.3g", p.wall) + " s wall, " +
-            fmt("%.3g", p.cpu) + " s CPU";
+  m.notes = "time from gmsh log 'Done meshing 2D'; whole process " + fmt("%.3g", p.wall) +
+            " s wall, " + fmt("%.3g", p.cpu) + " s CPU";
   return m;
 }
 
@@ -656,7 +672,8 @@ Measure run_gmsh(const std::string& work, const SquareHole& d, double h, int alg
 // an adaptation loop: start from a uniform 100 x 100 grid, run bamg, put the exact analytic
 // metric at the vertices of its output, repeat until the vertex count changes by < 3 % (at
 // most 8 passes). Only the final pass is timed; its background is bamg's previous output.
-void write_metric_file(const std::string& path, const std::vector<m2d::Vec2>& v, const m2d::SizeSpec& size) {
+void write_metric_file(const std::string& path, const std::vector<m2d::Vec2>& v,
+                       const m2d::SizeSpec& size) {
   std::ofstream g(path);
   g.precision(17);
   // "nv 3", then a11 a21 a22 per vertex: the same M as SizeSpec (length^2 = e^T M e).
@@ -690,7 +707,8 @@ void write_bamg_mesh(const std::string& path, const PlainMesh& m) {
     if (!std::binary_search(sorted.begin(), sorted.end(), rev)) boundary.push_back(d);
   }
   f << "Edges " << boundary.size() << "\n";
-  for (const std::uint64_t d : boundary) f << (d >> 32) + 1 << " " << (d & 0xFFFFFFFFu) + 1 << " 1\n";
+  for (const std::uint64_t d : boundary)
+    f << (d >> 32) + 1 << " " << (d & 0xFFFFFFFFu) + 1 << " 1\n";
   f << "Triangles " << m.t.size() << "\n";
   for (const auto& k : m.t) f << k[0] + 1 << " " << k[1] + 1 << " " << k[2] + 1 << " 0\n";
   f << "End\n";
@@ -700,7 +718,8 @@ PlainMesh grid_mesh(int n) {
   PlainMesh m;
   auto id = [n](int i, int j) { return static_cast<m2d::VertId>(j * (n + 1) + i); };
   for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) m.v.push_back({static_cast<double>(i) / n, static_cast<double>(j) / n});
+    for (int i = 0; i <= n; ++i)
+      m.v.push_back({static_cast<double>(i) / n, static_cast<double>(j) / n});
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       m.t.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
@@ -713,21 +732,24 @@ struct BamgRun {
   Proc proc;
   std::string error;
 };
-BamgRun bamg_pass(const std::string& bg, const std::string& mtr, const std::string& out, long long& nbv) {
+BamgRun bamg_pass(const std::string& bg, const std::string& mtr, const std::string& out,
+                  long long& nbv) {
   BamgRun r;
   for (int attempt = 0; attempt < 2; ++attempt) {
-    r.proc = run_process({"ffbamg", "-b", bg, "-M", mtr, "-o", out, "-nbv", std::to_string(nbv), "-v", "2"}, true);
+    r.proc = run_process(
+        {"ffbamg", "-b", bg, "-M", mtr, "-o", out, "-nbv", std::to_string(nbv), "-v", "2"}, true);
     if (r.proc.exit_code == 0) return r;
     nbv *= 4;  // the usual failure is running out of the preallocated vertices
   }
-  std::string tail = r.proc.out.size() > 160 ? r.proc.out.substr(r.proc.out.size() - 160) : r.proc.out;
+  std::string tail =
+      r.proc.out.size() > 160 ? r.proc.out.substr(r.proc.out.size() - 160) : r.proc.out;
   std::replace(tail.begin(), tail.end(), '\n', ' ');
   r.error = "ffbamg exited with " + std::to_string(r.proc.exit_code) + ": " + tail;
   return r;
 }
 
 struct BamgCase {
-  std::string bg, mtr;  // final background mesh and its metric file
+  std::string bg, mtr;          // final background mesh and its metric file
   int passes = 0, bg_pass = 0;  // bamg passes run; the pass whose output is the background
   long long nbv = 0, bg_tris = 0;
   std::string error;
@@ -737,7 +759,8 @@ BamgCase prepare_bamg(const std::string& work, const std::string& field, double 
                       double expect_verts) {
   BamgCase c;
   const m2d::SizeSpec size = aniso_field(field, h0, hmax);
-  const std::string base = work + "/bamg_" + field + "_" + fmt("%.6g", h0) + "_" + fmt("%.6g", hmax);
+  const std::string base =
+      work + "/bamg_" + field + "_" + fmt("%.6g", h0) + "_" + fmt("%.6g", hmax);
   // -nbv is bamg's preallocated vertex capacity (every array is sized from it): twice what
   // ours produced leaves room without inflating the process's memory much.
   c.nbv = std::max<long long>(50000, static_cast<long long>(2 * expect_verts));
@@ -771,7 +794,8 @@ BamgCase prepare_bamg(const std::string& work, const std::string& field, double 
 }
 
 void remove_bamg_files(const std::string& work, const std::string& field, double h0, double hmax) {
-  const std::string base = work + "/bamg_" + field + "_" + fmt("%.6g", h0) + "_" + fmt("%.6g", hmax);
+  const std::string base =
+      work + "/bamg_" + field + "_" + fmt("%.6g", h0) + "_" + fmt("%.6g", hmax);
   for (int k = 0; k <= 9; ++k)
     for (const char* ext : {".mesh", ".mtr", ".mesh.gmsh", "_bg.mesh"})
       std::remove((base + "_p" + std::to_string(k) + ext).c_str());
@@ -779,10 +803,12 @@ void remove_bamg_files(const std::string& work, const std::string& field, double
   std::remove((base + "_final.mesh.gmsh").c_str());
 }
 
-Measure run_bamg(const std::string& work, BamgCase& c, const std::string& field, double h0, double hmax) {
+Measure run_bamg(const std::string& work, BamgCase& c, const std::string& field, double h0,
+                 double hmax) {
   Measure m;
   if (!c.error.empty()) return m.error = c.error, m;
-  const std::string out = work + "/bamg_" + field + "_" + fmt("%.6g", h0) + "_" + fmt("%.6g", hmax) + "_final.mesh";
+  const std::string out =
+      work + "/bamg_" + field + "_" + fmt("%.6g", h0) + "_" + fmt("%.6g", hmax) + "_final.mesh";
   const BamgRun r = bamg_pass(c.bg, c.mtr, out, c.nbv);
   if (!r.error.empty()) return m.error = r.error, m;
   // " Cpu time for meshing          : 0.77s  Nb Vertices/s = 2029.87"
@@ -801,22 +827,23 @@ Measure run_bamg(const std::string& work, BamgCase& c, const std::string& field,
   m.tris = static_cast<double>(pm.t.size());
   m.verts = static_cast<double>(pm.v.size());
   m.q = m2d::measure(pm.v, pm.t, aniso_field(field, h0, hmax));
-  m.notes = "CPU from bamg's log 'Cpu time for meshing'; wall = whole process incl. I/O (process CPU " +
-            fmt("%.3g", r.proc.cpu) + " s); background: bamg's own pass-" + std::to_string(c.bg_pass) +
-            " output (" + std::to_string(c.bg_tris) + " tri) + exact metric at its vertices; -nbv " +
-            std::to_string(c.nbv);
+  m.notes =
+      "CPU from bamg's log 'Cpu time for meshing'; wall = whole process incl. I/O (process CPU " +
+      fmt("%.3g", r.proc.cpu) + " s); background: bamg's own pass-" + std::to_string(c.bg_pass) +
+      " output (" + std::to_string(c.bg_tris) + " tri) + exact metric at its vertices; -nbv " +
+      std::to_string(c.nbv);
   return m;
 }
 
 // ------------------------------------------------------------------------------- table
 struct Row {
   std::string bench, tool;
-  Measure best;       // best wall and best CPU over the repetitions
+  Measure best;  // best wall and best CPU over the repetitions
   bool is_ours = false;
-  int group = 0;      // rows of one case share a group; ratios are taken within it
-  bool dt = false;    // Delaunay rows: rate in points/s, no shape quality
+  int group = 0;    // rows of one case share a group; ratios are taken within it
+  bool dt = false;  // Delaunay rows: rate in points/s, no shape quality
   bool metric = false;
-  double items = 0;   // points (dt) or triangles
+  double items = 0;  // points (dt) or triangles
   int reps = 1;
 };
 
@@ -837,16 +864,18 @@ void merge_best(Measure& best, const Measure& m) {
 std::string table(const std::vector<Row>& rows, const std::string& header) {
   std::ostringstream o;
   o << header;
-  o << "| benchmark | tool | triangles | wall s | CPU s | M/s CPU | M/s wall | ours ÷ this (CPU, wall) | Q_M | Q<1.5 "
-       "| min angle | metric Q_M | metric Q<1.5 | unit edges | peak RSS MB | MB / M tri | notes |\n";
+  o << "| benchmark | tool | triangles | wall s | CPU s | M/s CPU | M/s wall | ours ÷ this (CPU, "
+       "wall) | Q_M | Q<1.5 "
+       "| min angle | metric Q_M | metric Q<1.5 | unit edges | peak RSS MB | MB / M tri | notes "
+       "|\n";
   o << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
   for (const auto& r : rows) {
     const Measure& m = r.best;
     o << "| " << r.bench << " | " << r.tool << " | ";
     if (!m.ok) {
       const bool blocked = m.error.rfind("BLOCKED", 0) == 0;
-      o << "– | – | – | – | – | – | – | – | – | – | – | – | – | – | " << (blocked ? "" : "FAILED: ") << m.error
-        << " |\n";
+      o << "– | – | – | – | – | – | – | – | – | – | – | – | – | – | " << (blocked ? "" : "FAILED: ")
+        << m.error << " |\n";
       continue;
     }
     const double items = r.dt ? r.items : m.tris;
@@ -876,8 +905,8 @@ std::string table(const std::vector<Row>& rows, const std::string& header) {
           << fmt("%.1f°", q.min_angle_deg) << " | – | – | ";
       o << fmt("%.1f%%", 100 * q.unit_edge_share) << " | ";
     }
-    o << fmt("%.0f", m.rss_mb) << " | " << fmt("%.0f", m.rss_mb / (m.tris * 1e-6)) << " | best of " << r.reps
-      << "; " << m.notes << " |\n";
+    o << fmt("%.0f", m.rss_mb) << " | " << fmt("%.0f", m.rss_mb / (m.tris * 1e-6)) << " | best of "
+      << r.reps << "; " << m.notes << " |\n";
   }
   return o.str();
 }
@@ -885,7 +914,8 @@ std::string table(const std::vector<Row>& rows, const std::string& header) {
 std::string load_line() {
   double load[3] = {kNaN, kNaN, kNaN};
   getloadavg(load, 3);
-  return "load average " + fmt("%.2f", load[0]) + " " + fmt("%.2f", load[1]) + " " + fmt("%.2f", load[2]);
+  return "load average " + fmt("%.2f", load[0]) + " " + fmt("%.2f", load[1]) + " " +
+         fmt("%.2f", load[2]);
 }
 
 std::string machine_line() {
@@ -900,15 +930,16 @@ std::string machine_line() {
 }
 
 int usage(int code) {
-  std::fprintf(code ? stderr : stdout,
-               "usage: bench_mesher2d [--quick] [--reps N] [--only dt|iso|aniso] [--out FILE] [--work DIR]\n"
-               "                      [--no-gmsh] [--no-bamg] [--keep] [--max-size N]\n"
-               "  --quick   small sizes only (smoke run); default: the full sizes of issue 2\n"
-               "  --reps N  repetitions per case, ours and references alternating (default 2, quick 1)\n"
-               "  --out F   also write the Markdown table to F\n"
-               "  --work D  scratch directory for .geo/.msh/bamg files (default /tmp/uvmesh-bench-PID)\n"
-               "  --keep    keep the scratch files (inputs and outputs of gmsh and bamg)\n"
-               "  --max-size N  skip cases of more than N points / triangles\n");
+  std::fprintf(
+      code ? stderr : stdout,
+      "usage: bench_mesher2d [--quick] [--reps N] [--only dt|iso|aniso] [--out FILE] [--work DIR]\n"
+      "                      [--no-gmsh] [--no-bamg] [--keep] [--max-size N]\n"
+      "  --quick   small sizes only (smoke run); default: the full sizes of issue 2\n"
+      "  --reps N  repetitions per case, ours and references alternating (default 2, quick 1)\n"
+      "  --out F   also write the Markdown table to F\n"
+      "  --work D  scratch directory for .geo/.msh/bamg files (default /tmp/uvmesh-bench-PID)\n"
+      "  --keep    keep the scratch files (inputs and outputs of gmsh and bamg)\n"
+      "  --max-size N  skip cases of more than N points / triangles\n");
   return code;
 }
 
@@ -926,17 +957,28 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) std::exit(usage(2));
       return argv[++i];
     };
-    if (a == "--quick") quick = true;
-    else if (a == "--reps") reps = std::atoi(value().c_str());
-    else if (a == "--only") only = value();
-    else if (a == "--out") out_path = value();
-    else if (a == "--work") work = value();
-    else if (a == "--no-gmsh") use_gmsh = false;
-    else if (a == "--no-bamg") use_bamg = false;
-    else if (a == "--keep") keep = true;
-    else if (a == "--max-size") max_size = std::strtod(value().c_str(), nullptr);
-    else if (a == "--help" || a == "-h") return usage(0);
-    else return usage(2);
+    if (a == "--quick")
+      quick = true;
+    else if (a == "--reps")
+      reps = std::atoi(value().c_str());
+    else if (a == "--only")
+      only = value();
+    else if (a == "--out")
+      out_path = value();
+    else if (a == "--work")
+      work = value();
+    else if (a == "--no-gmsh")
+      use_gmsh = false;
+    else if (a == "--no-bamg")
+      use_bamg = false;
+    else if (a == "--keep")
+      keep = true;
+    else if (a == "--max-size")
+      max_size = std::strtod(value().c_str(), nullptr);
+    else if (a == "--help" || a == "-h")
+      return usage(0);
+    else
+      return usage(2);
   }
   if (work.empty()) work = "/tmp/uvmesh-bench-" + std::to_string(getpid());
   mkdir(work.c_str(), 0755);
@@ -952,14 +994,16 @@ int main(int argc, char** argv) {
   // N = 4 A / (sqrt3 h^2), A = 1 - pi/16 (ours lands within a few % of it); the same h for
   // every tool. Anisotropic: (h0, hmax) with N = (4/sqrt3) * integral of sqrt(det M), for bl
   // ln(hmax/h0) / (hmax (hmax - h0)); ring computed numerically.
-  const std::vector<std::int64_t> dt_sizes = quick ? std::vector<std::int64_t>{100000}
-                                                   : std::vector<std::int64_t>{100000, 1000000, 4000000};
+  const std::vector<std::int64_t> dt_sizes =
+      quick ? std::vector<std::int64_t>{100000}
+            : std::vector<std::int64_t>{100000, 1000000, 4000000};
   struct Iso {
     const char* label;
     double h, n;
   };
-  const std::vector<Iso> iso_sizes = quick ? std::vector<Iso>{{"~2e4", 0.0095, 2e4}}
-                                           : std::vector<Iso>{{"~1e5", 0.0043, 1e5}, {"~1e6", 0.00136, 1e6}};
+  const std::vector<Iso> iso_sizes =
+      quick ? std::vector<Iso>{{"~2e4", 0.0095, 2e4}}
+            : std::vector<Iso>{{"~1e5", 0.0043, 1e5}, {"~1e6", 0.00136, 1e6}};
   struct Aniso {
     const char* field;
     double h0, hmax, n;
@@ -973,17 +1017,21 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   int group = 0;
-  auto progress = [](const std::string& s) { std::fprintf(stderr, "bench_mesher2d: %s\n", s.c_str()); };
+  auto progress = [](const std::string& s) {
+    std::fprintf(stderr, "bench_mesher2d: %s\n", s.c_str());
+  };
   // Runs the measurements of one case, ours and references alternating, the order flipped
   // every repetition.
-  auto run_case = [&](std::vector<Row> rs, const std::vector<std::function<Measure()>>& fns, double items) {
+  auto run_case = [&](std::vector<Row> rs, const std::vector<std::function<Measure()>>& fns,
+                      double items) {
     const int n = reps_for(items);
     for (int k = 0; k < n; ++k) {
       std::vector<std::size_t> order(rs.size());
       for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
       if (k % 2 == 1) std::reverse(order.begin(), order.end());
       for (const std::size_t i : order) {
-        progress(rs[i].bench + " / " + rs[i].tool + " (rep " + std::to_string(k + 1) + " of " + std::to_string(n) + ")");
+        progress(rs[i].bench + " / " + rs[i].tool + " (rep " + std::to_string(k + 1) + " of " +
+                 std::to_string(n) + ")");
         merge_best(rs[i].best, fns[i]());
       }
     }
@@ -1005,10 +1053,17 @@ int main(int argc, char** argv) {
       const std::string b = "Delaunay, " + fmt("%.0e", static_cast<double>(n)) + " random points";
       std::vector<Row> rs(2);
       rs[0] = {b, "**ours** (refine=false)", {}, true, group, true, false, static_cast<double>(n)};
-      rs[1] = {b, "CGAL Delaunay_triangulation_2 (Epick)", {}, false, group, true, false, static_cast<double>(n)};
+      rs[1] = {b,     "CGAL Delaunay_triangulation_2 (Epick)",
+               {},    false,
+               group, true,
+               false, static_cast<double>(n)};
       run_case(rs,
-               {[n] { return run_self({"dt-ours", std::to_string(n)}); },
-                [n] { return run_self({"dt-cgal", std::to_string(n)}); }},
+               {[n] {
+                  return run_self({"dt-ours", std::to_string(n)});
+                },
+                [n] {
+                  return run_self({"dt-cgal", std::to_string(n)});
+                }},
                static_cast<double>(n));
     }
   }
@@ -1016,7 +1071,8 @@ int main(int argc, char** argv) {
     for (const Iso& s : iso_sizes) {
       if (s.n > max_size) continue;
       ++group;
-      const std::string b = std::string("square with hole, ") + s.label + " tri, h=" + fmt("%.4g", s.h);
+      const std::string b =
+          std::string("square with hole, ") + s.label + " tri, h=" + fmt("%.4g", s.h);
       const SquareHole d = square_hole(s.h);
       std::vector<Row> rs;
       std::vector<std::function<Measure()>> fns;
@@ -1031,8 +1087,15 @@ int main(int argc, char** argv) {
       rs.push_back({b, "CGAL Delaunay_mesher_2 (B=√2, S=√2·h)", {}, false, group, false, false, 0});
       fns.push_back([h] { return run_self({"iso-cgal", num17(h), num17(std::sqrt(2.0) * h)}); });
       for (const int algo : {5, 6}) {
-        rs.push_back({b, std::string("gmsh -2, algo ") + (algo == 5 ? "5 Delaunay" : "6 Frontal-Delaunay") + ", -nt 1",
-                      {}, false, group, false, false, 0});
+        rs.push_back({b,
+                      std::string("gmsh -2, algo ") +
+                          (algo == 5 ? "5 Delaunay" : "6 Frontal-Delaunay") + ", -nt 1",
+                      {},
+                      false,
+                      group,
+                      false,
+                      false,
+                      0});
         if (have_gmsh)
           fns.push_back([&work, d, h, algo, keep] { return run_gmsh(work, d, h, algo, keep); });
         else
@@ -1046,7 +1109,8 @@ int main(int argc, char** argv) {
       if (s.n > max_size) continue;
       ++group;
       const std::string f = s.field;
-      const std::string b = f + ":" + fmt("%g", s.h0) + "," + fmt("%g", s.hmax) + " on the unit square";
+      const std::string b =
+          f + ":" + fmt("%g", s.h0) + "," + fmt("%g", s.hmax) + " on the unit square";
       const double h0 = s.h0, hmax = s.hmax, n = s.n;
       auto verts = std::make_shared<double>(0.0);  // ours' vertex count sizes bamg's -nbv
       auto bamg = std::make_shared<std::optional<BamgCase>>();  // background, built once
@@ -1058,7 +1122,14 @@ int main(int argc, char** argv) {
         if (m.ok) *verts = m.verts;
         return m;
       });
-      rs.push_back({b, "ffbamg (Debian freefem++), -b background -M metric", {}, false, group, false, true, 0});
+      rs.push_back({b,
+                    "ffbamg (Debian freefem++), -b background -M metric",
+                    {},
+                    false,
+                    group,
+                    false,
+                    true,
+                    0});
       if (have_bamg)
         fns.push_back([&work, f, h0, hmax, n, verts, bamg, progress] {
           if (!bamg->has_value()) {
@@ -1078,12 +1149,17 @@ int main(int argc, char** argv) {
   head << "## bench_mesher2d " << (quick ? "(--quick)" : "(full)") << "\n\n";
   head << "Machine: " << machine_line() << "; " << load_at_start << " at the start, " << load_line()
        << " at the end; whole run " << fmt("%.0f", wall_now() - run_start) << " s wall. "
-       << "Each case: ours and the references alternate, order flipped every repetition; best (smallest) "
-          "wall and CPU kept separately over the repetitions (count in the notes). The machine is shared: wall times are noisy, "
-          "CPU times are the steadier figure. Rates: M points/s for Delaunay rows, M triangles/s otherwise. "
+       << "Each case: ours and the references alternate, order flipped every repetition; best "
+          "(smallest) "
+          "wall and CPU kept separately over the repetitions (count in the notes). The machine is "
+          "shared: wall times are noisy, "
+          "CPU times are the steadier figure. Rates: M points/s for Delaunay rows, M triangles/s "
+          "otherwise. "
           "'ours ÷ this' = our rate divided by this row's rate (> 1: ours faster). Quality by "
-          "uvmesh::m2d::measure for every mesh (Q_K = (√3/6)·h_max/ρ_K; unit edges: metric length in "
-          "[1/√2, √2], for the isotropic rows relative to h). Peak RSS: the child process right after the "
+          "uvmesh::m2d::measure for every mesh (Q_K = (√3/6)·h_max/ρ_K; unit edges: metric length "
+          "in "
+          "[1/√2, √2], for the isotropic rows relative to h). Peak RSS: the child process right "
+          "after the "
           "timed call (ours, CGAL) or the whole external process (gmsh, bamg).\n\n";
   const std::string t = table(rows, head.str());
   std::fputs(t.c_str(), stdout);

@@ -25,7 +25,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double secs(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double secs(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 struct MetricCost {
   double eval_ns, curvature_ns, metric3_ns, induced_ns, field_ns, induced_err;
@@ -33,7 +35,8 @@ struct MetricCost {
 
 // Mean cost per call over `n` random points of the face's box, and the worst relative
 // error |l_Muv(d) - l_M3(sigma(uv + d) - sigma(uv))| / l for steps of 1e-6 of the box.
-MetricCost metric_cost(const geom::Surface& s, const geom::Box2& box, const param::SizeSpec& spec, int n) {
+MetricCost metric_cost(const geom::Surface& s, const geom::Box2& box, const param::SizeSpec& spec,
+                       int n) {
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> U(0.05, 0.95);
   std::vector<geom::Vec2> uv(static_cast<std::size_t>(n));
@@ -71,8 +74,8 @@ MetricCost metric_cost(const geom::Surface& s, const geom::Box2& box, const para
 }
 
 void print_cost(const char* what, const MetricCost& c) {
-  std::printf("  %-28s %9.0f %9.0f %9.0f %9.0f %9.0f   %.1e\n", what, c.eval_ns, c.curvature_ns, c.metric3_ns,
-              c.induced_ns, c.field_ns, c.induced_err);
+  std::printf("  %-28s %9.0f %9.0f %9.0f %9.0f %9.0f   %.1e\n", what, c.eval_ns, c.curvature_ns,
+              c.metric3_ns, c.induced_ns, c.field_ns, c.induced_err);
 }
 
 }  // namespace
@@ -81,8 +84,10 @@ int main(int argc, char** argv) {
   std::string data = UVMESH_SHARED_DATA;
   int repeat = 1;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
-    else data = argv[i];
+    if (!std::strcmp(argv[i], "--repeat") && i + 1 < argc)
+      repeat = std::max(1, std::atoi(argv[++i]));
+    else
+      data = argv[i];
   }
   // The three largest CAD models of the corpus, by file size.
   std::vector<std::pair<std::uintmax_t, std::string>> files;
@@ -92,8 +97,8 @@ int main(int argc, char** argv) {
   files.resize(std::min<std::size_t>(3, files.size()));
 
   std::printf("Import (seconds, best of %d)\n", repeat);
-  std::printf("  %-28s %8s %6s %6s %6s %8s %8s %8s %8s %8s\n", "model", "MB", "faces", "edges", "solids", "prescan",
-              "read", "build", "as-read", "healed");
+  std::printf("  %-28s %8s %6s %6s %6s %8s %8s %8s %8s %8s\n", "model", "MB", "faces", "edges",
+              "solids", "prescan", "read", "build", "as-read", "healed");
   std::vector<io::ReadResult> keep;
   for (const auto& [bytes, path] : files) {
     double pre = 1e30, rd = 1e30, bld = 1e30, plain = 1e30, healed = 1e30;
@@ -118,16 +123,19 @@ int main(int argc, char** argv) {
       continue;
     }
     std::printf("  %-28s %8.2f %6zu %6zu %6zu %8.3f %8.3f %8.3f %8.3f %8.3f\n",
-                std::filesystem::path(path).filename().c_str(), bytes / 1e6, r.model.faces.size(), r.model.edges.size(),
-                r.model.solids.size(), pre, rd, bld, plain, healed);
+                std::filesystem::path(path).filename().c_str(), bytes / 1e6, r.model.faces.size(),
+                r.model.edges.size(), r.model.solids.size(), pre, rd, bld, plain, healed);
     keep.push_back(std::move(r));
   }
-  std::printf("  (read = OCC parse + transfer incl. prescan; build = geom::Model incl. BRepCheck per face;\n"
-              "   as-read = whole read_cad --no-heal; healed = read_cad with ShapeFix + sewing)\n\n");
+  std::printf(
+      "  (read = OCC parse + transfer incl. prescan; build = geom::Model incl. BRepCheck per "
+      "face;\n"
+      "   as-read = whole read_cad --no-heal; healed = read_cad with ShapeFix + sewing)\n\n");
 
-  std::printf("Metric evaluation (ns per call; error = worst relative error of the induced metric)\n");
-  std::printf("  %-28s %9s %9s %9s %9s %9s   %s\n", "surface", "sigma+D2", "curvat.", "M3", "M3+Muv", "grid Muv",
-              "error");
+  std::printf(
+      "Metric evaluation (ns per call; error = worst relative error of the induced metric)\n");
+  std::printf("  %-28s %9s %9s %9s %9s %9s   %s\n", "surface", "sigma+D2", "curvat.", "M3",
+              "M3+Muv", "grid Muv", "error");
   const int n = 20000;
   param::SizeSpec spec;
   spec.hmax = 1.0;
@@ -146,8 +154,9 @@ int main(int argc, char** argv) {
         s2.hmax = d / 20;
         s2.hmin = d / 2e4;
         s2.chordal_tol = d * 1e-4;
-        const std::string label = std::filesystem::path(r.model.source).stem().string().substr(0, 14) + " f" +
-                                  std::to_string(f) + " " + std::string(to_string(face.kind));
+        const std::string label =
+            std::filesystem::path(r.model.source).stem().string().substr(0, 14) + " f" +
+            std::to_string(f) + " " + std::string(to_string(face.kind));
         print_cost(label.c_str(), metric_cost(*face.surface, face.uv_box, s2, n / 4));
         break;
       }

@@ -11,7 +11,6 @@
 // tessellation + limit evaluation for OpenSubdiv.
 #include <opensubdiv/bfr/parameterization.h>
 #include <opensubdiv/bfr/tessellation.h>
-
 #include <time.h>
 
 #include <array>
@@ -44,30 +43,35 @@ struct Clock {
     return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
   }
 };
-double since(Clock::time_point t0) { return Clock::now() - t0; }
+double since(Clock::time_point t0) {
+  return Clock::now() - t0;
+}
 
 Bfr::Parameterization param_of(const geom::SubdModelResult& r, const geom::SubdPatch& p) {
-  return Bfr::Parameterization(r.scheme == geom::SubdScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK,
-                               p.face_size);
+  return Bfr::Parameterization(
+      r.scheme == geom::SubdScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, p.face_size);
 }
 
 // Base face -> its patches (model faces), in sub-face order.
 std::map<geom::Id, std::vector<geom::Id>> patches_by_base(const geom::SubdModelResult& r) {
   std::map<geom::Id, std::vector<geom::Id>> m;
-  for (geom::Id f = 0; f < static_cast<geom::Id>(r.patches.size()); ++f) m[r.patches[f].base_face].push_back(f);
+  for (geom::Id f = 0; f < static_cast<geom::Id>(r.patches.size()); ++f)
+    m[r.patches[f].base_face].push_back(f);
   return m;
 }
 
-std::size_t uniform_count(const geom::SubdModelResult& r, const std::map<geom::Id, std::vector<geom::Id>>& by_base,
-                          int rate) {
+std::size_t uniform_count(const geom::SubdModelResult& r,
+                          const std::map<geom::Id, std::vector<geom::Id>>& by_base, int rate) {
   std::size_t n = 0;
-  for (const auto& [bf, pf] : by_base) n += Bfr::Tessellation(param_of(r, r.patches[pf[0]]), rate).GetNumFacets();
+  for (const auto& [bf, pf] : by_base)
+    n += Bfr::Tessellation(param_of(r, r.patches[pf[0]]), rate).GetNumFacets();
   return n;
 }
 
 // OpenSubdiv's uniform tessellation evaluated on our patches: one point set per base
 // face (faces are not stitched: chordal deviation and shape do not need it).
-surface::SurfaceMesh tessellate(const geom::SubdModelResult& r, const std::map<geom::Id, std::vector<geom::Id>>& by_base,
+surface::SurfaceMesh tessellate(const geom::SubdModelResult& r,
+                                const std::map<geom::Id, std::vector<geom::Id>>& by_base,
                                 int rate) {
   surface::SurfaceMesh mesh;
   std::vector<double> uv;
@@ -108,7 +112,8 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r, const std::map<g
       const int a = facets[t], b = facets[t + 1], c = facets[t + 2];
       // The facet's patch: the one most of its corners lie in (a point shared by
       // sub-faces carries the coordinate of one of them only).
-      const geom::Id fa = patch_of({uv[2 * a], uv[2 * a + 1]}), fb = patch_of({uv[2 * b], uv[2 * b + 1]}),
+      const geom::Id fa = patch_of({uv[2 * a], uv[2 * a + 1]}),
+                     fb = patch_of({uv[2 * b], uv[2 * b + 1]}),
                      fc = patch_of({uv[2 * c], uv[2 * c + 1]});
       const geom::Id f = (fb == fc) ? fb : fa;
       mesh.triangles.push_back({base + a, base + b, base + c});
@@ -121,8 +126,8 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r, const std::map<g
       for (int k = 0; k < 3 && r.patches[f].polygon.empty(); ++k)
         if (l[k].x < -1e-9 || l[k].y < -1e-9 || l[k].x > 1 + 1e-9 || l[k].y > 1 + 1e-9)
           l[k] = surface::project_to_surface(*r.model.faces[f].surface, mesh.points[base + idx[k]],
-                                             glm::clamp(l[k], geom::Vec2(0.0), geom::Vec2(1.0)), {{0, 1}, {0, 1}},
-                                             r.model.bbox.diagonal())
+                                             glm::clamp(l[k], geom::Vec2(0.0), geom::Vec2(1.0)),
+                                             {{0, 1}, {0, 1}}, r.model.bbox.diagonal())
                      .uv;
       mesh.triangle_uv.push_back(l);
     }
@@ -130,21 +135,26 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r, const std::map<g
   return mesh;
 }
 
-void row(const std::string& cage, const char* method, const surface::SurfaceMesh& m, const geom::Model& model,
-         double tol, double secs, double model_secs, const std::string& extra) {
+void row(const std::string& cage, const char* method, const surface::SurfaceMesh& m,
+         const geom::Model& model, double tol, double secs, double model_secs,
+         const std::string& extra) {
   const surface::QualityReport q = surface::measure_quality(m, 1);
   const surface::ChordalReport ch = surface::measure_chordal(m, model, 1);
   const double D = model.bbox.diagonal();
   if (std::getenv("BENCH_SUBD_DEBUG"))
-    std::fprintf(stderr, "worst: triangle %d face %d which %d uv (%g %g) dist %g\n", ch.worst.triangle, ch.worst.face,
-                 ch.worst.which, ch.worst.uv.x, ch.worst.uv.y, ch.worst.distance),
-        std::fprintf(stderr, "  tri face %d uv (%g %g) (%g %g) (%g %g)\n", m.triangle_face[ch.worst.triangle],
-                     m.triangle_uv[ch.worst.triangle][0].x, m.triangle_uv[ch.worst.triangle][0].y,
-                     m.triangle_uv[ch.worst.triangle][1].x, m.triangle_uv[ch.worst.triangle][1].y,
-                     m.triangle_uv[ch.worst.triangle][2].x, m.triangle_uv[ch.worst.triangle][2].y);
-  std::printf("| %s | %s | %zu | %.3e | %.3e | %.2f | %.3f | %.3f | %.3f | %.2f | %.3f | %.3f | %s |\n", cage.c_str(),
-              method, m.triangles.size(), ch.max / D, ch.mean / D, tol > 0 ? ch.max / tol : 0.0, q.share_Q_lt_1_5,
-              q.Q_p50, q.Q_p95, q.Q_max, secs, model_secs, extra.c_str());
+    std::fprintf(stderr, "worst: triangle %d face %d which %d uv (%g %g) dist %g\n",
+                 ch.worst.triangle, ch.worst.face, ch.worst.which, ch.worst.uv.x, ch.worst.uv.y,
+                 ch.worst.distance),
+        std::fprintf(stderr, "  tri face %d uv (%g %g) (%g %g) (%g %g)\n",
+                     m.triangle_face[ch.worst.triangle], m.triangle_uv[ch.worst.triangle][0].x,
+                     m.triangle_uv[ch.worst.triangle][0].y, m.triangle_uv[ch.worst.triangle][1].x,
+                     m.triangle_uv[ch.worst.triangle][1].y, m.triangle_uv[ch.worst.triangle][2].x,
+                     m.triangle_uv[ch.worst.triangle][2].y);
+  std::printf(
+      "| %s | %s | %zu | %.3e | %.3e | %.2f | %.3f | %.3f | %.3f | %.2f | %.3f | %.3f | %s |\n",
+      cage.c_str(), method, m.triangles.size(), ch.max / D, ch.mean / D,
+      tol > 0 ? ch.max / tol : 0.0, q.share_Q_lt_1_5, q.Q_p50, q.Q_p95, q.Q_max, secs, model_secs,
+      extra.c_str());
   std::fflush(stdout);
 }
 
@@ -156,16 +166,21 @@ int main(int argc, char** argv) {
   std::vector<std::string> cages;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--hmax-rel" && i + 1 < argc) hmax_rel = std::atof(argv[++i]);
-    else if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
-    else cages.push_back(a);
+    if (a == "--hmax-rel" && i + 1 < argc)
+      hmax_rel = std::atof(argv[++i]);
+    else if (a == "--threads" && i + 1 < argc)
+      threads = std::atoi(argv[++i]);
+    else
+      cages.push_back(a);
   }
   if (cages.empty()) {
     std::fprintf(stderr, "usage: bench_subd CAGE.obj... [--hmax-rel R] [--threads N]\n");
     return 1;
   }
-  std::printf("| cage | method | triangles | chordal max / D | chordal mean / D | max / tol | Q<1.5 | Q p50 | Q p95 | "
-              "Q max | mesh s | model s | note |\n");
+  std::printf(
+      "| cage | method | triangles | chordal max / D | chordal mean / D | max / tol | Q<1.5 | Q "
+      "p50 | Q p95 | "
+      "Q max | mesh s | model s | note |\n");
   std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
   double sum_ours = 0, sum_uni = 0, tri_ours = 0, tri_uni = 0;
   for (const std::string& path : cages) {
@@ -191,7 +206,8 @@ int main(int argc, char** argv) {
     int best = 1;
     for (int rate = 1; rate <= 128; ++rate) {
       const std::size_t n = uniform_count(r, by_base, rate);
-      if (std::llabs(static_cast<long long>(n) - static_cast<long long>(ours.mesh.triangles.size())) <
+      if (std::llabs(static_cast<long long>(n) -
+                     static_cast<long long>(ours.mesh.triangles.size())) <
           std::llabs(static_cast<long long>(uniform_count(r, by_base, best)) -
                      static_cast<long long>(ours.mesh.triangles.size())))
         best = rate;
@@ -200,9 +216,11 @@ int main(int argc, char** argv) {
     t0 = Clock::now();
     const surface::SurfaceMesh uni = tessellate(r, by_base, best);
     const double t_uni = since(t0);
-    row(name, "osd uniform", uni, r.model, o.size.chordal_tol, t_uni, t_model, "rate " + std::to_string(best));
+    row(name, "osd uniform", uni, r.model, o.size.chordal_tol, t_uni, t_model,
+        "rate " + std::to_string(best));
     sum_ours += t_ours, sum_uni += t_uni;
-    tri_ours += static_cast<double>(ours.mesh.triangles.size()), tri_uni += static_cast<double>(uni.triangles.size());
+    tri_ours += static_cast<double>(ours.mesh.triangles.size()),
+        tri_uni += static_cast<double>(uni.triangles.size());
   }
   // The floor under uvmesh's time: mesher2d alone (no surface, no size field) on the unit
   // square, with a uniform size and with a constant metric given as a callback (the path
@@ -213,17 +231,24 @@ int main(int argc, char** argv) {
     in.segments = {{0, 1, 1}, {1, 2, 1}, {2, 3, 1}, {3, 0, 1}};
     const double h = 0.0025;
     const auto t0 = Clock::now();
-    const m2d::Result res =
-        callback ? m2d::mesh(in, m2d::SizeSpec::aniso([&](double, double) { return m2d::Metric2{1 / (h * h), 0, 1 / (h * h)}; }), {})
-                 : m2d::mesh(in, m2d::SizeSpec::uniform(h), {});
+    const m2d::Result res = callback ? m2d::mesh(in, m2d::SizeSpec::aniso([&](double, double) {
+                                                   return m2d::Metric2{1 / (h * h), 0, 1 / (h * h)};
+                                                 }),
+                                                 {})
+                                     : m2d::mesh(in, m2d::SizeSpec::uniform(h), {});
     const double t = since(t0);
-    return std::pair{1e6 * t / static_cast<double>(res.mesh.triangles.size()), res.mesh.triangles.size()};
+    return std::pair{1e6 * t / static_cast<double>(res.mesh.triangles.size()),
+                     res.mesh.triangles.size()};
   };
   const auto [us_uniform, n_uniform] = m2d_rate(false);
   const auto [us_callback, n_callback] = m2d_rate(true);
-  std::printf("\nCPU microseconds per triangle: uvmesh %.2f (all cages), osd uniform %.3f (tessellation + limit "
-              "evaluation); mesher2d alone on a square: uniform size %.2f (%zu triangles), constant metric through the "
-              "callback %.2f (%zu triangles)\n",
-              1e6 * sum_ours / tri_ours, 1e6 * sum_uni / tri_uni, us_uniform, n_uniform, us_callback, n_callback);
+  std::printf(
+      "\nCPU microseconds per triangle: uvmesh %.2f (all cages), osd uniform %.3f (tessellation + "
+      "limit "
+      "evaluation); mesher2d alone on a square: uniform size %.2f (%zu triangles), constant metric "
+      "through the "
+      "callback %.2f (%zu triangles)\n",
+      1e6 * sum_ours / tri_ours, 1e6 * sum_uni / tri_uni, us_uniform, n_uniform, us_callback,
+      n_callback);
   return 0;
 }

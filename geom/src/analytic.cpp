@@ -29,8 +29,8 @@ class Cylinder final : public Surface {
  public:
   Cylinder(const Frame& f, double r, const Interval& v) : f_(f), r_(r), v_(v) {}
   SurfacePoint eval(double u, double v) const override {
-    const Vec3 c = std::cos(u) * f_.x + std::sin(u) * f_.y;   // radial
-    const Vec3 dc = -std::sin(u) * f_.x + std::cos(u) * f_.y; // d radial / du
+    const Vec3 c = std::cos(u) * f_.x + std::sin(u) * f_.y;    // radial
+    const Vec3 dc = -std::sin(u) * f_.x + std::cos(u) * f_.y;  // d radial / du
     return {f_.origin + r_ * c + v * f_.z, r_ * dc, f_.z, -r_ * c, Vec3(0.0), Vec3(0.0)};
   }
   Box2 bounds() const override { return {{0.0, kTwoPi}, v_}; }
@@ -52,7 +52,11 @@ class Cone final : public Surface {
     const Vec3 dc = -std::sin(u) * f_.x + std::cos(u) * f_.y;
     const double s = std::sin(a_), k = std::cos(a_);
     const double rad = r_ + v * s;
-    return {f_.origin + rad * c + v * k * f_.z, rad * dc, s * c + k * f_.z, -rad * c, s * dc,
+    return {f_.origin + rad * c + v * k * f_.z,
+            rad * dc,
+            s * c + k * f_.z,
+            -rad * c,
+            s * dc,
             Vec3(0.0)};
   }
   Box2 bounds() const override { return {{0.0, kTwoPi}, v_}; }
@@ -138,9 +142,12 @@ std::vector<double> clamped_knots(int n, int p) {
   std::vector<double> k(static_cast<std::size_t>(n + p + 1));
   const int inner = n - p;  // number of spans
   for (int i = 0; i < n + p + 1; ++i) {
-    if (i <= p) k[i] = 0.0;
-    else if (i >= n) k[i] = 1.0;
-    else k[i] = double(i - p) / inner;
+    if (i <= p)
+      k[i] = 0.0;
+    else if (i >= n)
+      k[i] = 1.0;
+    else
+      k[i] = double(i - p) / inner;
   }
   return k;
 }
@@ -152,7 +159,10 @@ int find_span(const std::vector<double>& k, int n, int p, double t) {
   int lo = p, hi = n;
   while (hi - lo > 1) {
     const int mid = (lo + hi) / 2;
-    if (t < k[mid]) hi = mid; else lo = mid;
+    if (t < k[mid])
+      hi = mid;
+    else
+      lo = mid;
   }
   return lo;
 }
@@ -204,7 +214,12 @@ void basis_ders(const std::vector<double>& k, int s, int p, double t, double out
 class BSplinePatch final : public Surface {
  public:
   BSplinePatch(std::vector<Vec3> ctrl, int nu, int nv, int p, int q)
-      : c_(std::move(ctrl)), nu_(nu), nv_(nv), p_(p), q_(q), ku_(clamped_knots(nu, p)),
+      : c_(std::move(ctrl)),
+        nu_(nu),
+        nv_(nv),
+        p_(p),
+        q_(q),
+        ku_(clamped_knots(nu, p)),
         kv_(clamped_knots(nv, q)) {}
   SurfacePoint eval(double u, double v) const override {
     double bu[3][8], bv[3][8];
@@ -308,7 +323,8 @@ std::shared_ptr<Surface> make_bspline_patch(const std::vector<Vec3>& ctrl, int n
                                             int q) {
   if (p < 1 || q < 1 || p > 7 || q > 7 || nu <= p || nv <= q ||
       ctrl.size() != static_cast<std::size_t>(nu) * static_cast<std::size_t>(nv))
-    throw std::invalid_argument("make_bspline_patch: need nu > p, nv > q, degrees 1..7, nu*nv points");
+    throw std::invalid_argument(
+        "make_bspline_patch: need nu > p, nv > q, degrees 1..7, nu*nv points");
   return std::make_shared<BSplinePatch>(ctrl, nu, nv, p, q);
 }
 std::shared_ptr<Curve> make_line(const Vec3& p, const Vec3& d, const Interval& range) {

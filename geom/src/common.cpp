@@ -10,32 +10,52 @@ namespace uvmesh::geom {
 
 std::string_view to_string(CurveKind k) {
   switch (k) {
-    case CurveKind::Line: return "line";
-    case CurveKind::Circle: return "circle";
-    case CurveKind::Ellipse: return "ellipse";
-    case CurveKind::Hyperbola: return "hyperbola";
-    case CurveKind::Parabola: return "parabola";
-    case CurveKind::Bezier: return "bezier";
-    case CurveKind::BSpline: return "bspline";
-    case CurveKind::Offset: return "offset";
-    case CurveKind::Other: return "other";
+    case CurveKind::Line:
+      return "line";
+    case CurveKind::Circle:
+      return "circle";
+    case CurveKind::Ellipse:
+      return "ellipse";
+    case CurveKind::Hyperbola:
+      return "hyperbola";
+    case CurveKind::Parabola:
+      return "parabola";
+    case CurveKind::Bezier:
+      return "bezier";
+    case CurveKind::BSpline:
+      return "bspline";
+    case CurveKind::Offset:
+      return "offset";
+    case CurveKind::Other:
+      return "other";
   }
   return "other";
 }
 
 std::string_view to_string(SurfaceKind k) {
   switch (k) {
-    case SurfaceKind::Plane: return "planar";
-    case SurfaceKind::Cylinder: return "cylinder";
-    case SurfaceKind::Cone: return "cone";
-    case SurfaceKind::Sphere: return "sphere";
-    case SurfaceKind::Torus: return "torus";
-    case SurfaceKind::Bezier: return "bezier";
-    case SurfaceKind::BSpline: return "bspline";
-    case SurfaceKind::Revolution: return "revolution";
-    case SurfaceKind::Extrusion: return "extrusion";
-    case SurfaceKind::Offset: return "offset";
-    case SurfaceKind::Other: return "other";
+    case SurfaceKind::Plane:
+      return "planar";
+    case SurfaceKind::Cylinder:
+      return "cylinder";
+    case SurfaceKind::Cone:
+      return "cone";
+    case SurfaceKind::Sphere:
+      return "sphere";
+    case SurfaceKind::Torus:
+      return "torus";
+    case SurfaceKind::Bezier:
+      return "bezier";
+    case SurfaceKind::BSpline:
+      return "bspline";
+    case SurfaceKind::Revolution:
+      return "revolution";
+    case SurfaceKind::Extrusion:
+      return "extrusion";
+    case SurfaceKind::Offset:
+      return "offset";
+    case SurfaceKind::Other:
+      return "other";
   }
   return "other";
 }

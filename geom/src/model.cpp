@@ -1,13 +1,13 @@
 // Model statistics (`uvmesh info`): counts, kinds, seams, poles, free / non-manifold /
 // short edges, vertex gaps; the split of vertices that close open edges.
+#include "uvmesh/geom/model.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
 #include <sstream>
 #include <string>
-
-#include "uvmesh/geom/model.h"
 
 namespace uvmesh::geom {
 
@@ -153,8 +153,10 @@ int split_vertices_closing_open_edges(Model& m) {
       double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
       for (std::size_t c = 0; c < centre.size(); ++c) {
         const double d = glm::length(E[i].x - centre[c]);
-        if (d < d1) d2 = d1, d1 = d, cl[i] = c;
-        else if (d < d2) d2 = d;
+        if (d < d1)
+          d2 = d1, d1 = d, cl[i] = c;
+        else if (d < d2)
+          d2 = d;
       }
       clear = d1 <= std::max(ctol[cl[i]], 0.5 * d2);
     }
@@ -175,9 +177,12 @@ int split_vertices_closing_open_edges(Model& m) {
           if (!u.internal && u.edge != kNone) cyc.push_back(&u);
         for (std::size_t k = 0; k < cyc.size() && clear; ++k) {
           const EdgeUse &a = *cyc[k], &b = *cyc[(k + 1) % cyc.size()];
-          const Edge &ea = m.edges[static_cast<std::size_t>(a.edge)], &eb = m.edges[static_cast<std::size_t>(b.edge)];
+          const Edge &ea = m.edges[static_cast<std::size_t>(a.edge)],
+                     &eb = m.edges[static_cast<std::size_t>(b.edge)];
           const int sa = a.reversed ? 0 : 1, sb = b.reversed ? 1 : 0;  // a's last end, b's first
-          if ((sa ? ea.v1 : ea.v0) != static_cast<Id>(v) || (sb ? eb.v1 : eb.v0) != static_cast<Id>(v)) continue;
+          if ((sa ? ea.v1 : ea.v0) != static_cast<Id>(v) ||
+              (sb ? eb.v1 : eb.v0) != static_cast<Id>(v))
+            continue;
           if (cluster_of(a.edge, sa) != cluster_of(b.edge, sb)) clear = false;
         }
       }
@@ -200,16 +205,17 @@ int split_vertices_closing_open_edges(Model& m) {
       split.vertex = id[c];
       split.from = static_cast<Id>(v);
       std::ostringstream os;
-      os << "vertex " << id[c] << " split off vertex " << v << " (tolerance " << m.vertices[v].tol << "): edge";
+      os << "vertex " << id[c] << " split off vertex " << v << " (tolerance " << m.vertices[v].tol
+         << "): edge";
       if (open_closed.size() > 1) os << "s";
       for (std::size_t k = 0; k < open_closed.size(); ++k) {
         const Edge& ed = m.edges[static_cast<std::size_t>(open_closed[k])];
         os << (k ? ", " : " ") << open_closed[k] << " (ends "
-           << glm::length(ed.curve->point(ed.range.hi) - ed.curve->point(ed.range.lo)) << " apart, tolerance "
-           << ed.tol << ")";
+           << glm::length(ed.curve->point(ed.range.hi) - ed.curve->point(ed.range.lo))
+           << " apart, tolerance " << ed.tol << ")";
       }
-      os << " had both ends at vertex " << v << "; the edge ends near " << at[c].x << " " << at[c].y << " "
-         << at[c].z << " are now at vertex " << id[c];
+      os << " had both ends at vertex " << v << "; the edge ends near " << at[c].x << " " << at[c].y
+         << " " << at[c].z << " are now at vertex " << id[c];
       split.reason = os.str();
       m.vertices.push_back({at[c], 0.0});
       m.vertex_splits.push_back(std::move(split));
@@ -222,7 +228,8 @@ int split_vertices_closing_open_edges(Model& m) {
       Edge& ed = m.edges[static_cast<std::size_t>(E[i].edge)];
       (E[i].side ? ed.v1 : ed.v0) = id[c];
     }
-    for (std::size_t c = 0; c < centre.size(); ++c) m.vertices[static_cast<std::size_t>(id[c])].tol = tol[c];
+    for (std::size_t c = 0; c < centre.size(); ++c)
+      m.vertices[static_cast<std::size_t>(id[c])].tol = tol[c];
   }
   return added;
 }

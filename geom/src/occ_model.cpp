@@ -6,15 +6,15 @@
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepCheck.hxx>
-#include <BRepGProp.hxx>
-#include <GProp_GProps.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepCheck_ListOfStatus.hxx>
 #include <BRepCheck_Result.hxx>
+#include <BRepGProp.hxx>
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
 #include <Geom2dAdaptor_Curve.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_Surface.hxx>
@@ -29,7 +29,6 @@
 #include <TopoDS_Iterator.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Wire.hxx>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -41,10 +40,18 @@
 namespace uvmesh::geom {
 namespace {
 
-Vec3 v3(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
-Vec3 v3(const gp_Vec& p) { return {p.X(), p.Y(), p.Z()}; }
-Vec2 v2(const gp_Pnt2d& p) { return {p.X(), p.Y()}; }
-Vec2 v2(const gp_Vec2d& p) { return {p.X(), p.Y()}; }
+Vec3 v3(const gp_Pnt& p) {
+  return {p.X(), p.Y(), p.Z()};
+}
+Vec3 v3(const gp_Vec& p) {
+  return {p.X(), p.Y(), p.Z()};
+}
+Vec2 v2(const gp_Pnt2d& p) {
+  return {p.X(), p.Y()};
+}
+Vec2 v2(const gp_Vec2d& p) {
+  return {p.X(), p.Y()};
+}
 
 std::string occ_message(const Standard_Failure& f) {
   std::string s = f.DynamicType()->Name();
@@ -55,31 +62,51 @@ std::string occ_message(const Standard_Failure& f) {
 
 SurfaceKind surface_kind(GeomAbs_SurfaceType t) {
   switch (t) {
-    case GeomAbs_Plane: return SurfaceKind::Plane;
-    case GeomAbs_Cylinder: return SurfaceKind::Cylinder;
-    case GeomAbs_Cone: return SurfaceKind::Cone;
-    case GeomAbs_Sphere: return SurfaceKind::Sphere;
-    case GeomAbs_Torus: return SurfaceKind::Torus;
-    case GeomAbs_BezierSurface: return SurfaceKind::Bezier;
-    case GeomAbs_BSplineSurface: return SurfaceKind::BSpline;
-    case GeomAbs_SurfaceOfRevolution: return SurfaceKind::Revolution;
-    case GeomAbs_SurfaceOfExtrusion: return SurfaceKind::Extrusion;
-    case GeomAbs_OffsetSurface: return SurfaceKind::Offset;
-    default: return SurfaceKind::Other;
+    case GeomAbs_Plane:
+      return SurfaceKind::Plane;
+    case GeomAbs_Cylinder:
+      return SurfaceKind::Cylinder;
+    case GeomAbs_Cone:
+      return SurfaceKind::Cone;
+    case GeomAbs_Sphere:
+      return SurfaceKind::Sphere;
+    case GeomAbs_Torus:
+      return SurfaceKind::Torus;
+    case GeomAbs_BezierSurface:
+      return SurfaceKind::Bezier;
+    case GeomAbs_BSplineSurface:
+      return SurfaceKind::BSpline;
+    case GeomAbs_SurfaceOfRevolution:
+      return SurfaceKind::Revolution;
+    case GeomAbs_SurfaceOfExtrusion:
+      return SurfaceKind::Extrusion;
+    case GeomAbs_OffsetSurface:
+      return SurfaceKind::Offset;
+    default:
+      return SurfaceKind::Other;
   }
 }
 
 CurveKind curve_kind(GeomAbs_CurveType t) {
   switch (t) {
-    case GeomAbs_Line: return CurveKind::Line;
-    case GeomAbs_Circle: return CurveKind::Circle;
-    case GeomAbs_Ellipse: return CurveKind::Ellipse;
-    case GeomAbs_Hyperbola: return CurveKind::Hyperbola;
-    case GeomAbs_Parabola: return CurveKind::Parabola;
-    case GeomAbs_BezierCurve: return CurveKind::Bezier;
-    case GeomAbs_BSplineCurve: return CurveKind::BSpline;
-    case GeomAbs_OffsetCurve: return CurveKind::Offset;
-    default: return CurveKind::Other;
+    case GeomAbs_Line:
+      return CurveKind::Line;
+    case GeomAbs_Circle:
+      return CurveKind::Circle;
+    case GeomAbs_Ellipse:
+      return CurveKind::Ellipse;
+    case GeomAbs_Hyperbola:
+      return CurveKind::Hyperbola;
+    case GeomAbs_Parabola:
+      return CurveKind::Parabola;
+    case GeomAbs_BezierCurve:
+      return CurveKind::Bezier;
+    case GeomAbs_BSplineCurve:
+      return CurveKind::BSpline;
+    case GeomAbs_OffsetCurve:
+      return CurveKind::Offset;
+    default:
+      return CurveKind::Other;
   }
 }
 
@@ -163,7 +190,7 @@ class OccCurve final : public Curve {
 
 class OccCurve2 final : public Curve2 {
  public:
-  OccCurve2(const Handle(Geom2d_Curve)& c, double first, double last)
+  OccCurve2(const Handle(Geom2d_Curve) & c, double first, double last)
       : a_(c, first, last), kind_(curve_kind(a_.GetType())), r_{first, last} {}
   CurvePoint2 eval(double t) const override {
     gp_Pnt2d p;
@@ -210,8 +237,8 @@ std::string check_reason(const BRepCheck_Analyzer& an, const TopoDS_Face& f) {
   return "invalid (BRepCheck)";
 }
 
-// Why a face with an open wire is degenerate (Face::degenerate), or "" when it is not: its area A is at
-// most its boundary length P times the largest tolerance T of its boundary edges and
+// Why a face with an open wire is degenerate (Face::degenerate), or "" when it is not: its area A
+// is at most its boundary length P times the largest tolerance T of its boundary edges and
 // vertices, i.e. its mean width 2A/P is at most 2T: the whole face lies within the
 // tolerance tube of its own boundary. occt_caxif_k1 has eight such faces: one B-spline
 // edge of 2.56 mm, tolerance 0.046 mm, whose ends are 1.64 mm apart (the wire is open),
@@ -235,8 +262,8 @@ std::string degenerate_face_reason(const TopoDS_Face& f) {
   if (!(area <= perimeter * tol)) return {};
   std::ostringstream os;
   os << "area " << area << " within its boundary's tolerance tube (boundary length " << perimeter
-     << ", tolerance " << tol << ": mean width " << (perimeter > 0 ? 2 * area / perimeter : 0.0) << " <= "
-     << 2 * tol << "; its wire is open)";
+     << ", tolerance " << tol << ": mean width " << (perimeter > 0 ? 2 * area / perimeter : 0.0)
+     << " <= " << 2 * tol << "; its wire is open)";
   return os.str();
 }
 
@@ -296,7 +323,6 @@ void fix_coincident_seams(Face& fc, const std::vector<SeamPcurve>& pcs) {
       if (!moved.IsNull()) mv.pcurve = std::make_shared<OccCurve2>(moved, mv.range.lo, mv.range.hi);
     }
 }
-
 
 // Orders a loop's uses so that each starts, in (u,v), where the previous one ends. The
 // wire explorer chains edges through their 3D vertices, which is ambiguous when one
@@ -434,10 +460,12 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
         if (static_cast<int>(order.size()) != n_edges) {
           order.clear();
           for (TopoDS_Iterator it(w); it.More(); it.Next())
-            if (it.Value().ShapeType() == TopAbs_EDGE && !embedded(it.Value())) order.push_back(TopoDS::Edge(it.Value()));
+            if (it.Value().ShapeType() == TopAbs_EDGE && !embedded(it.Value()))
+              order.push_back(TopoDS::Edge(it.Value()));
         }
         for (TopoDS_Iterator it(w); it.More(); it.Next())
-          if (it.Value().ShapeType() == TopAbs_EDGE && embedded(it.Value())) order.push_back(TopoDS::Edge(it.Value()));
+          if (it.Value().ShapeType() == TopAbs_EDGE && embedded(it.Value()))
+            order.push_back(TopoDS::Edge(it.Value()));
         for (const TopoDS_Edge& e : order) {
           // EXTERNAL edges lie outside the face's material (construction geometry).
           if (e.Orientation() == TopAbs_EXTERNAL) continue;
@@ -466,7 +494,8 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
       }
       bool open_wire = false;
       for (TopoDS_Iterator wit(ff); wit.More(); wit.Next())
-        if (wit.Value().ShapeType() == TopAbs_WIRE && !BRep_Tool::IsClosed(wit.Value())) open_wire = true;
+        if (wit.Value().ShapeType() == TopAbs_WIRE && !BRep_Tool::IsClosed(wit.Value()))
+          open_wire = true;
       // Only a face with an open wire: a closed one around a sliver (occt_caxif_b1's strips
       // between two copies of one curve, narrower than their tolerances) still closes its
       // solid between those two curves, and is meshed.
@@ -490,7 +519,8 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
       Solid& so = m.solids[i - 1];
       for (TopExp_Explorer ex(somap(i), TopAbs_SHELL); ex.More(); ex.Next()) {
         const Id s = shmap.FindIndex(ex.Current()) - 1;
-        if (std::find(so.shells.begin(), so.shells.end(), s) == so.shells.end()) so.shells.push_back(s);
+        if (std::find(so.shells.begin(), so.shells.end(), s) == so.shells.end())
+          so.shells.push_back(s);
       }
     }
 
@@ -507,7 +537,8 @@ Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
       m.bbox.add(Vec3(x1, y1, z1));
     }
   } catch (const Standard_Failure& f) {
-    throw std::runtime_error("OpenCASCADE failed while converting " + where + ": " + occ_message(f));
+    throw std::runtime_error("OpenCASCADE failed while converting " + where + ": " +
+                             occ_message(f));
   }
   return m;
 }

@@ -39,8 +39,13 @@ class SubdSurface final : public Surface {
  public:
   // diff_everywhere: tangents differenced on the whole patch, not only in the corner
   // squares (the sub-faces of n-gons, see eval()).
-  SubdSurface(std::shared_ptr<const BasePatch> b, Vec2 origin, double scale, bool diff_everywhere = false)
-      : b_(std::move(b)), o_(origin), k_(scale), regular_(b_->s.IsRegular()), diff_all_(diff_everywhere) {}
+  SubdSurface(std::shared_ptr<const BasePatch> b, Vec2 origin, double scale,
+              bool diff_everywhere = false)
+      : b_(std::move(b)),
+        o_(origin),
+        k_(scale),
+        regular_(b_->s.IsRegular()),
+        diff_all_(diff_everywhere) {}
 
   SurfacePoint eval(double u, double v) const override { return evaluate(u, v, true); }
   // Without second derivatives Bfr combines three point sets instead of six (the induced
@@ -70,10 +75,17 @@ class SubdSurface final : public Surface {
     const Vec2 c = clamp({u, v});
     double P[3], Du[3], Dv[3], Duu[3] = {0, 0, 0}, Duv[3] = {0, 0, 0}, Dvv[3] = {0, 0, 0};
     const double uv[2] = {o_.x + k_ * c.x, o_.y + k_ * c.y};
-    if (second) b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv, Duu, Duv, Dvv);
-    else b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv);
+    if (second)
+      b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv, Duu, Duv, Dvv);
+    else
+      b_->s.Evaluate(uv, b_->points.data(), 3, P, Du, Dv);
     auto vec = [](const double* a) { return Vec3(a[0], a[1], a[2]); };
-    SurfacePoint e{vec(P), k_ * vec(Du), k_ * vec(Dv), k_ * k_ * vec(Duu), k_ * k_ * vec(Duv), k_ * k_ * vec(Dvv)};
+    SurfacePoint e{vec(P),
+                   k_ * vec(Du),
+                   k_ * vec(Dv),
+                   k_ * k_ * vec(Duu),
+                   k_ * k_ * vec(Duv),
+                   k_ * k_ * vec(Dvv)};
     if (!regular_ && (b_->triangle || diff_all_ || near_corner(c))) {
       // Irregular faces end, around extraordinary vertices, in Gregory patches whose
       // first derivatives from Bfr ignore the rational weights (off by ~0.3% of the
@@ -114,7 +126,8 @@ class SubdSurface final : public Surface {
   Vec2 clamp(Vec2 c) const {
     if (!b_->triangle) return glm::clamp(c, Vec2(0.0), Vec2(1.0));
     c = glm::max(c, Vec2(0.0));
-    if (c.x + c.y > 1.0) c = glm::min(glm::max(c - Vec2(0.5 * (c.x + c.y - 1.0)), Vec2(0.0)), Vec2(1.0));
+    if (c.x + c.y > 1.0)
+      c = glm::min(glm::max(c - Vec2(0.5 * (c.x + c.y - 1.0)), Vec2(0.0)), Vec2(1.0));
     return c;
   }
   Vec3 pos(Vec2 c) const {
@@ -130,8 +143,10 @@ class SubdSurface final : public Surface {
     constexpr double h = 1e-6;
     const Vec2 a = c + h * dir, b = c - h * dir;
     if (inside(a) && inside(b)) return (pos(a) - pos(b)) / (2 * h);
-    if (inside(a) && inside(c + 2 * h * dir)) return (-3.0 * p0 + 4.0 * pos(a) - pos(c + 2 * h * dir)) / (2 * h);
-    if (inside(b) && inside(c - 2 * h * dir)) return (3.0 * p0 - 4.0 * pos(b) + pos(c - 2 * h * dir)) / (2 * h);
+    if (inside(a) && inside(c + 2 * h * dir))
+      return (-3.0 * p0 + 4.0 * pos(a) - pos(c + 2 * h * dir)) / (2 * h);
+    if (inside(b) && inside(c - 2 * h * dir))
+      return (3.0 * p0 - 4.0 * pos(b) + pos(c - 2 * h * dir)) / (2 * h);
     return fallback;
   }
 
@@ -179,7 +194,8 @@ class SubdSurface final : public Surface {
 // same curve.
 class NgonSurface final : public Surface {
  public:
-  NgonSurface(std::vector<std::shared_ptr<const SubdSurface>> sub, std::vector<Vec2> poly, Vec2 centre)
+  NgonSurface(std::vector<std::shared_ptr<const SubdSurface>> sub, std::vector<Vec2> poly,
+              Vec2 centre)
       : sub_(std::move(sub)), p_(std::move(poly)), c_(centre), n_(static_cast<int>(sub_.size())) {
     for (const Vec2& q : p_) {
       box_.u.lo = std::min(box_.u.lo, q.x), box_.u.hi = std::max(box_.u.hi, q.x);
@@ -210,7 +226,8 @@ class NgonSurface final : public Surface {
     const Vec2 Ps = e + st.y * g, Pt = f + st.x * g;
     const double det = Ps.x * Pt.y - Ps.y * Pt.x;
     const double su = Pt.y / det, sv = -Pt.x / det, tu = -Ps.y / det, tv = Ps.x / det;
-    const SurfacePoint a = second_derivatives ? sub_[k]->eval(st.x, st.y) : sub_[k]->eval_first(st.x, st.y);
+    const SurfacePoint a =
+        second_derivatives ? sub_[k]->eval(st.x, st.y) : sub_[k]->eval_first(st.x, st.y);
     SurfacePoint r;
     r.p = a.p;
     r.du = su * a.du + tu * a.dv;
@@ -220,9 +237,11 @@ class NgonSurface final : public Surface {
       const double w = sa * tb + ta * sb;
       return Vec2(-(su * g.x + sv * g.y) * w, -(tu * g.x + tv * g.y) * w);
     };
-    const Vec2 uu = second(su, tu, su, tu), uv = second(su, tu, sv, tv), vv = second(sv, tv, sv, tv);
+    const Vec2 uu = second(su, tu, su, tu), uv = second(su, tu, sv, tv),
+               vv = second(sv, tv, sv, tv);
     auto d2 = [&](double sa, double ta, double sb, double tb, const Vec2& ab) {
-      return sa * sb * a.duu + (sa * tb + ta * sb) * a.duv + ta * tb * a.dvv + ab.x * a.du + ab.y * a.dv;
+      return sa * sb * a.duu + (sa * tb + ta * sb) * a.duv + ta * tb * a.dvv + ab.x * a.du +
+             ab.y * a.dv;
     };
     r.duu = d2(su, tu, su, tu, uu);
     r.duv = d2(su, tu, sv, tv, uv);
@@ -238,7 +257,8 @@ class NgonSurface final : public Surface {
     double best_score = -std::numeric_limits<double>::infinity();
     for (int k = 0; k < n_; ++k) {
       const Vec2 a = p_[(2 * k + m - 1) % m] - c_, b = p_[2 * k + 1] - c_;
-      const double s0 = (a.x * d.y - a.y * d.x) / glm::length(a), s1 = (d.x * b.y - d.y * b.x) / glm::length(b);
+      const double s0 = (a.x * d.y - a.y * d.x) / glm::length(a),
+                   s1 = (d.x * b.y - d.y * b.x) / glm::length(b);
       const double score = std::min(s0, s1);
       if (score >= 0) return k;
       if (score > best_score) best_score = score, best = k;
@@ -262,8 +282,8 @@ class CurveOnPatch final : public Curve {
     const CurvePoint2 c = pc_->eval(t);
     const SurfacePoint e = s_->eval(c.p.x, c.p.y);
     const Vec3 d1 = c.d1.x * e.du + c.d1.y * e.dv;
-    const Vec3 d2 = c.d1.x * c.d1.x * e.duu + 2.0 * c.d1.x * c.d1.y * e.duv + c.d1.y * c.d1.y * e.dvv +
-                    c.d2.x * e.du + c.d2.y * e.dv;
+    const Vec3 d2 = c.d1.x * c.d1.x * e.duu + 2.0 * c.d1.x * c.d1.y * e.duv +
+                    c.d1.y * c.d1.y * e.dvv + c.d2.x * e.du + c.d2.y * e.dv;
     return {e.p, d1, d2};
   }
   Interval range() const override { return pc_->range(); }
@@ -306,7 +326,8 @@ class ProjectedSurface final : public Surface {
       const SurfacePoint e = sub_[static_cast<std::size_t>(k)]->eval(z.x, z.y);
       const Vec2 a0 = pl_.dir(e.du), a1 = pl_.dir(e.dv);
       const double det = a0.x * a1.y - a0.y * a1.x;
-      samples_.push_back({k, z, pl_.map(e.p), Vec2(a1.y, -a0.y) / det, Vec2(-a1.x, a0.x) / det, to_w(e)});
+      samples_.push_back(
+          {k, z, pl_.map(e.p), Vec2(a1.y, -a0.y) / det, Vec2(-a1.x, a0.x) / det, to_w(e)});
     }
   }
 
@@ -385,8 +406,10 @@ class ProjectedSurface final : public Surface {
       // Across a spoke (a little beyond it: on it both sides agree to rounding)?
       constexpr double kOver = 1e-9;
       if (pass >= 3 || (z.x <= 1.0 + kOver && z.y <= 1.0 + kOver)) break;
-      if (z.x - 1.0 >= z.y - 1.0) k = (k + 1) % n, z = Vec2(z.y, 2.0 - z.x);
-      else k = (k + n - 1) % n, z = Vec2(2.0 - z.y, z.x);
+      if (z.x - 1.0 >= z.y - 1.0)
+        k = (k + 1) % n, z = Vec2(z.y, 2.0 - z.x);
+      else
+        k = (k + n - 1) % n, z = Vec2(2.0 - z.y, z.x);
     }
     return e;
   }
@@ -431,7 +454,7 @@ class ProjectedSurface final : public Surface {
   struct Sample {
     int k;
     Vec2 z, w;
-    Vec2 iu, iv;     // columns of the inverse Jacobian of P o sigma at z
+    Vec2 iu, iv;      // columns of the inverse Jacobian of P o sigma at z
     SurfacePoint ew;  // sigma and its derivatives in w there
   };
   std::vector<std::shared_ptr<const SubdSurface>> sub_;
@@ -445,7 +468,8 @@ class ProjectedSurface final : public Surface {
 // edge's point at t, as on every other side.
 class ProjectedCurve2 final : public Curve2 {
  public:
-  ProjectedCurve2(std::shared_ptr<const Surface> inner, SubdPlane pl, std::shared_ptr<const Curve2> line)
+  ProjectedCurve2(std::shared_ptr<const Surface> inner, SubdPlane pl,
+                  std::shared_ptr<const Curve2> line)
       : c_(std::move(inner), std::move(line)), pl_(pl) {}
   CurvePoint2 eval(double t) const override {
     const CurvePoint3 c = c_.eval(t);
@@ -482,7 +506,9 @@ struct FarMessages {
   }
 };
 
-std::string line_ref(const SubdCage& c, int line) { return c.source + ":" + std::to_string(line) + ": "; }
+std::string line_ref(const SubdCage& c, int line) {
+  return c.source + ":" + std::to_string(line) + ": ";
+}
 
 // Tag indices are checked here (not in the parser) because OBJ may define vertices
 // after the tags that name them.
@@ -490,11 +516,11 @@ std::string check_tags(const SubdCage& c, const Far::TopologyLevel& lvl) {
   const int nv = static_cast<int>(c.points.size()), nf = static_cast<int>(c.face_sizes.size());
   for (const auto& k : c.creases) {
     if (k.a >= nv || k.b >= nv)
-      return line_ref(c, k.line) + "crease names vertex " + std::to_string(std::max(k.a, k.b)) + " but the cage has " +
-             std::to_string(nv) + " vertices (tag indices are 0-based)";
+      return line_ref(c, k.line) + "crease names vertex " + std::to_string(std::max(k.a, k.b)) +
+             " but the cage has " + std::to_string(nv) + " vertices (tag indices are 0-based)";
     if (lvl.FindEdge(k.a, k.b) < 0)
-      return line_ref(c, k.line) + "crease names vertices " + std::to_string(k.a) + " and " + std::to_string(k.b) +
-             " which share no edge";
+      return line_ref(c, k.line) + "crease names vertices " + std::to_string(k.a) + " and " +
+             std::to_string(k.b) + " which share no edge";
     if (!(k.sharpness >= 0)) return line_ref(c, k.line) + "negative crease sharpness";
   }
   // A sharp edge touching a face that folds onto another face around one of its corners
@@ -530,26 +556,29 @@ std::string check_tags(const SubdCage& c, const Far::TopologyLevel& lvl) {
       if (fold_v < 0) continue;
       for (const auto& k : c.creases) {
         if (!(k.sharpness > 0)) continue;
-        if (std::find(fv.begin(), fv.end(), k.a) == fv.end() && std::find(fv.begin(), fv.end(), k.b) == fv.end())
+        if (std::find(fv.begin(), fv.end(), k.a) == fv.end() &&
+            std::find(fv.begin(), fv.end(), k.b) == fv.end())
           continue;
-        return line_ref(c, k.line) + "crease on edge " + std::to_string(k.a) + "-" + std::to_string(k.b) +
-               " touches face " + std::to_string(f) + ", which folds onto face " + std::to_string(fold_g) +
-               " at vertex " + std::to_string(fold_v) +
-               " (the two faces share both its edges: an interior vertex of valence 2 on their side),"
+        return line_ref(c, k.line) + "crease on edge " + std::to_string(k.a) + "-" +
+               std::to_string(k.b) + " touches face " + std::to_string(f) +
+               ", which folds onto face " + std::to_string(fold_g) + " at vertex " +
+               std::to_string(fold_v) +
+               " (the two faces share both its edges: an interior vertex of valence 2 on their "
+               "side),"
                " which OpenSubdiv 3.5 cannot evaluate with creases";
       }
     }
   }
   for (const auto& k : c.corners) {
     if (k.v >= nv)
-      return line_ref(c, k.line) + "corner names vertex " + std::to_string(k.v) + " but the cage has " +
-             std::to_string(nv) + " vertices (tag indices are 0-based)";
+      return line_ref(c, k.line) + "corner names vertex " + std::to_string(k.v) +
+             " but the cage has " + std::to_string(nv) + " vertices (tag indices are 0-based)";
     if (!(k.sharpness >= 0)) return line_ref(c, k.line) + "negative corner sharpness";
   }
   for (const auto& h : c.holes)
     if (h.face >= nf)
-      return line_ref(c, h.line) + "hole names face " + std::to_string(h.face) + " but the cage has " +
-             std::to_string(nf) + " faces (tag indices are 0-based)";
+      return line_ref(c, h.line) + "hole names face " + std::to_string(h.face) +
+             " but the cage has " + std::to_string(nf) + " faces (tag indices are 0-based)";
   return {};
 }
 
@@ -577,9 +606,10 @@ std::string check_folded_faces(const SubdCage& c) {
     for (int i = 0; i < n; ++i) {
       const int x = v[i], y = v[(i + 1) % n];
       if (x != y && v[(i + 2) % n] == y && v[(i + 3) % n] == x)
-        return line_ref(c, c.face_lines[f]) + "face " + std::to_string(f) + " runs along the edge " +
-               std::to_string(x + 1) + "-" + std::to_string(y + 1) + " and back (vertices " + std::to_string(x + 1) +
-               " " + std::to_string(y + 1) + " " + std::to_string(y + 1) + " " + std::to_string(x + 1) +
+        return line_ref(c, c.face_lines[f]) + "face " + std::to_string(f) +
+               " runs along the edge " + std::to_string(x + 1) + "-" + std::to_string(y + 1) +
+               " and back (vertices " + std::to_string(x + 1) + " " + std::to_string(y + 1) + " " +
+               std::to_string(y + 1) + " " + std::to_string(x + 1) +
                " in a row): a folded face, which OpenSubdiv 3.5 cannot evaluate";
     }
   }
@@ -601,7 +631,8 @@ struct Piece {
 // across a spoke and Newton projections stalled on it). Empty (sub-face patches are used)
 // when a vertex repeats or a quad is not strictly convex (the bilinear maps would not be
 // one-to-one) or the quads do not turn once around the centre.
-bool flatten_ngon(const std::vector<Vec3>& bnd, const Vec3& centre, std::vector<Vec2>& out, Vec2& c2, SubdPlane& plane) {
+bool flatten_ngon(const std::vector<Vec3>& bnd, const Vec3& centre, std::vector<Vec2>& out,
+                  Vec2& c2, SubdPlane& plane) {
   const int m = static_cast<int>(bnd.size()), n = m / 2;
   Vec3 N{0.0};
   for (int i = 0; i < m; ++i) N += glm::cross(bnd[i] - centre, bnd[(i + 1) % m] - centre);
@@ -648,8 +679,8 @@ constexpr int kProjectValence = 8;
 // (positive: the polygon is CCW in the same plane) on 9 x 9 samples of every quad, and
 // stay above 1e-3 of its median (a fold or a cusp of the projection would make the
 // inversion ill-conditioned).
-std::shared_ptr<const ProjectedSurface> make_projected(const std::vector<std::shared_ptr<const SubdSurface>>& sub,
-                                                       const SubdPlane& pl) {
+std::shared_ptr<const ProjectedSurface> make_projected(
+    const std::vector<std::shared_ptr<const SubdSurface>>& sub, const SubdPlane& pl) {
   constexpr int ns = 8;
   std::vector<std::pair<int, Vec2>> zs;
   std::vector<double> dets;
@@ -680,7 +711,9 @@ std::shared_ptr<const ProjectedSurface> make_projected(const std::vector<std::sh
 
 }  // namespace
 
-bool have_opensubdiv() { return true; }
+bool have_opensubdiv() {
+  return true;
+}
 
 SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   SubdModelResult r;
@@ -690,14 +723,17 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   const int nf = static_cast<int>(cage.face_sizes.size());
 
   // ---- scheme and options
-  const bool all_tris = std::all_of(cage.face_sizes.begin(), cage.face_sizes.end(), [](int n) { return n == 3; });
-  r.scheme = opt.scheme == SubdScheme::Auto ? (all_tris ? SubdScheme::Loop : SubdScheme::CatmullClark) : opt.scheme;
+  const bool all_tris =
+      std::all_of(cage.face_sizes.begin(), cage.face_sizes.end(), [](int n) { return n == 3; });
+  r.scheme = opt.scheme == SubdScheme::Auto
+                 ? (all_tris ? SubdScheme::Loop : SubdScheme::CatmullClark)
+                 : opt.scheme;
   const bool loop = r.scheme == SubdScheme::Loop;
   if (loop)
     for (int f = 0; f < nf; ++f)
       if (cage.face_sizes[f] != 3) {
-        r.error = line_ref(cage, cage.face_lines[f]) + "the Loop scheme needs triangles; face " + std::to_string(f) +
-                  " has " + std::to_string(cage.face_sizes[f]) + " vertices";
+        r.error = line_ref(cage, cage.face_lines[f]) + "the Loop scheme needs triangles; face " +
+                  std::to_string(f) + " has " + std::to_string(cage.face_sizes[f]) + " vertices";
         return r;
       }
   if (std::string e = check_folded_faces(cage); !e.empty()) {
@@ -710,9 +746,10 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
                  : cage.interpolate_boundary == 2 ? SubdBoundary::EdgeAndCorner
                                                   : SubdBoundary::EdgeOnly;
   Sdc::Options so;
-  so.SetVtxBoundaryInterpolation(r.boundary == SubdBoundary::None       ? Sdc::Options::VTX_BOUNDARY_NONE
-                                 : r.boundary == SubdBoundary::EdgeOnly ? Sdc::Options::VTX_BOUNDARY_EDGE_ONLY
-                                                                        : Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+  so.SetVtxBoundaryInterpolation(r.boundary == SubdBoundary::None ? Sdc::Options::VTX_BOUNDARY_NONE
+                                 : r.boundary == SubdBoundary::EdgeOnly
+                                     ? Sdc::Options::VTX_BOUNDARY_EDGE_ONLY
+                                     : Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
   so.SetCreasingMethod(cage.chaikin ? Sdc::Options::CREASE_CHAIKIN : Sdc::Options::CREASE_UNIFORM);
   // Face-varying data is not used; the default would only matter for texture coordinates.
 
@@ -720,7 +757,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   std::vector<int> crease_pairs;
   std::vector<float> crease_w, corner_w;
   std::vector<int> corner_v, holes;
-  for (const auto& k : cage.creases) crease_pairs.insert(crease_pairs.end(), {k.a, k.b}), crease_w.push_back(k.sharpness);
+  for (const auto& k : cage.creases)
+    crease_pairs.insert(crease_pairs.end(), {k.a, k.b}), crease_w.push_back(k.sharpness);
   for (const auto& k : cage.corners) corner_v.push_back(k.v), corner_w.push_back(k.sharpness);
   for (const auto& h : cage.holes) holes.push_back(h.face);
 
@@ -733,8 +771,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   // Tags are added only once they are known to be valid (a bad index would be read out
   // of bounds by the factory), so the topology is built twice when there are tags.
-  std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(
-      desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, so)));
+  std::unique_ptr<Far::TopologyRefiner> refiner(
+      Factory::Create(desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, so)));
   if (!refiner) {
     r.error = cage.source + ": OpenSubdiv rejected the cage topology";
     for (const auto& s : msgs.list) r.error += "; " + s;
@@ -753,7 +791,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     desc.cornerWeights = corner_w.data();
     desc.numHoles = static_cast<int>(holes.size());
     desc.holeIndices = holes.data();
-    refiner.reset(Factory::Create(desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, so)));
+    refiner.reset(
+        Factory::Create(desc, Factory::Options(loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK, so)));
     if (!refiner) {
       r.error = cage.source + ": OpenSubdiv rejected the cage tags";
       for (const auto& s : msgs.list) r.error += "; " + s;
@@ -787,8 +826,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     }
     auto b = std::make_shared<BasePatch>();
     if (!factory.InitVertexSurface(f, &b->s) || !b->s.IsValid()) {
-      r.error = line_ref(cage, cage.face_lines[f]) + "OpenSubdiv could not build the limit surface of face " +
-                std::to_string(f);
+      r.error = line_ref(cage, cage.face_lines[f]) +
+                "OpenSubdiv could not build the limit surface of face " + std::to_string(f);
       return r;
     }
     b->points.resize(static_cast<std::size_t>(b->s.GetNumPatchPoints()) * 3);
@@ -797,7 +836,9 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     base[f] = std::move(b);
   }
   if (r.dropped_faces.size() == static_cast<std::size_t>(nf)) {
-    r.error = cage.source + ": no face has a limit surface (all holes, or boundary interpolation 'none' on an open cage)";
+    r.error = cage.source +
+              ": no face has a limit surface (all holes, or boundary interpolation 'none' on an "
+              "open cage)";
     return r;
   }
 
@@ -829,7 +870,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
         bnd.push_back(sk->point(0.0, 0.0));
         bnd.push_back(sk->point(1.0, 0.0));
       }
-      if (!flatten_ngon(bnd, subface_surface(f, 0)->point(1.0, 1.0), poly[f], poly_centre[f], poly_plane[f]))
+      if (!flatten_ngon(bnd, subface_surface(f, 0)->point(1.0, 1.0), poly[f], poly_centre[f],
+                        poly_plane[f]))
         poly[f].clear();
     }
 
@@ -850,7 +892,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     if (lvl.GetEdgeFaces(e).size() > 2) ++r.non_manifold_edges;
 
   // ---- model vertices (positions filled from the patches below)
-  std::vector<Id> vtx_of_base(static_cast<std::size_t>(lvl.GetNumVertices()), kNone), vtx_of_mid(ne, kNone);
+  std::vector<Id> vtx_of_base(static_cast<std::size_t>(lvl.GetNumVertices()), kNone),
+      vtx_of_mid(ne, kNone);
   std::vector<Id> vtx_of_center(nf, kNone);
   auto new_vertex = [&]() {
     m.vertices.push_back({});
@@ -865,7 +908,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   for (int e = 0; e < ne; ++e)
     if (used_e[e] && split[e]) vtx_of_mid[e] = new_vertex();
   for (int f = 0; f < nf; ++f)
-    if (base[f] && !loop && cage.face_sizes[f] != 4 && poly[f].empty()) vtx_of_center[f] = new_vertex();
+    if (base[f] && !loop && cage.face_sizes[f] != 4 && poly[f].empty())
+      vtx_of_center[f] = new_vertex();
   placed.assign(m.vertices.size(), 0);
 
   // ---- model edges: pieces of base edges, then spokes (created on first use)
@@ -907,14 +951,15 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
   // patch); the first patch at a vertex gives its position.
   // On a projected patch `ps` the pcurve is the projection of the straight line in the
   // coordinates of s (ProjectedCurve2); the edge's 3D curve always comes from s.
-  auto add_use = [&](Loop& loop_, const std::shared_ptr<const Surface>& s, Id edge, bool rev, Vec2 a, Vec2 d,
-                     const std::shared_ptr<const ProjectedSurface>& ps = nullptr) {
+  auto add_use = [&](Loop& loop_, const std::shared_ptr<const Surface>& s, Id edge, bool rev,
+                     Vec2 a, Vec2 d, const std::shared_ptr<const ProjectedSurface>& ps = nullptr) {
     Edge& ed = m.edges[edge];
     EdgeUse u;
     u.edge = edge;
     u.reversed = rev;
     u.range = ed.range;
-    const std::shared_ptr<Curve2> line = make_line2(a, d, ed.range);  // same t, same point on every side
+    const std::shared_ptr<Curve2> line =
+        make_line2(a, d, ed.range);  // same t, same point on every side
     u.pcurve = ps ? std::make_shared<ProjectedCurve2>(s, ps->plane(), line) : line;
     if (!ed.curve && !ed.degenerate) ed.curve = std::make_shared<CurveOnPatch>(s, line);
     loop_.uses.push_back(std::move(u));
@@ -927,7 +972,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
 
   // A side of a whole-face patch from corner c0 to c1 along base edge e: its pieces in
   // traversal order, each with the pcurve uv(t) of the whole edge.
-  auto add_side = [&](Loop& lp, const std::shared_ptr<const Surface>& s, int e, bool forward, Vec2 c0, Vec2 c1) {
+  auto add_side = [&](Loop& lp, const std::shared_ptr<const Surface>& s, int e, bool forward,
+                      Vec2 c0, Vec2 c1) {
     // Edge parameter t runs from the edge's first vertex: forward, uv(t) = c0 + t (c1 - c0).
     const Vec2 a = forward ? c0 : c1, d = forward ? c1 - c0 : c0 - c1;
     const int np = split[e] ? 2 : 1;
@@ -955,7 +1001,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       std::vector<std::shared_ptr<const SubdSurface>> sub;
       for (int k = 0; k < n; ++k) sub.push_back(subface_surface(f, k));
       bool high_valence = false;
-      for (int v : fv) high_valence = high_valence || lvl.GetVertexEdges(v).size() >= kProjectValence;
+      for (int v : fv)
+        high_valence = high_valence || lvl.GetVertexEdges(v).size() >= kProjectValence;
       const auto ps = high_valence ? make_projected(sub, poly_plane[f]) : nullptr;
       auto s = std::make_shared<NgonSurface>(std::move(sub), poly[f], poly_centre[f]);
       Face fc;
@@ -1000,7 +1047,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
         param.GetVertexCoord((i + 1) % n, c1);
         add_side(lp, s, fe[i], forward(i), {c0[0], c0[1]}, {c1[0], c1[1]});
         place(vtx_of_base[fv[i]], *s, {c0[0], c0[1]});
-        if (split[fe[i]]) place(vtx_of_mid[fe[i]], *s, 0.5 * (Vec2(c0[0], c0[1]) + Vec2(c1[0], c1[1])));
+        if (split[fe[i]])
+          place(vtx_of_mid[fe[i]], *s, 0.5 * (Vec2(c0[0], c0[1]) + Vec2(c1[0], c1[1])));
       }
       fc.loops.push_back(std::move(lp));
       m.faces.push_back(std::move(fc));
@@ -1019,8 +1067,10 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       // side 0: vertex k -> midpoint of edge k (half of edge k next to vertex k)
       {
         const int e = fe[k];
-        if (forward(k)) add_use(lp, s, pieces[e][0].edge, false, {0.0, 0.0}, {2.0, 0.0});
-        else add_use(lp, s, pieces[e][1].edge, true, {2.0, 0.0}, {-2.0, 0.0});
+        if (forward(k))
+          add_use(lp, s, pieces[e][0].edge, false, {0.0, 0.0}, {2.0, 0.0});
+        else
+          add_use(lp, s, pieces[e][1].edge, true, {2.0, 0.0}, {-2.0, 0.0});
       }
       // side 1: midpoint of edge k -> centre (spoke k, t from the midpoint)
       add_use(lp, s, spoke_edge[spoke_base[f] + k], false, {1.0, 0.0}, {0.0, 1.0});
@@ -1029,8 +1079,10 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       // side 3: midpoint of edge k-1 -> vertex k (half of edge k-1 next to vertex k)
       {
         const int e = fe[km];
-        if (forward(km)) add_use(lp, s, pieces[e][1].edge, false, {0.0, 2.0}, {0.0, -2.0});
-        else add_use(lp, s, pieces[e][0].edge, true, {0.0, 0.0}, {0.0, 2.0});
+        if (forward(km))
+          add_use(lp, s, pieces[e][1].edge, false, {0.0, 2.0}, {0.0, -2.0});
+        else
+          add_use(lp, s, pieces[e][0].edge, true, {0.0, 0.0}, {0.0, 2.0});
       }
       place(vtx_of_base[fv[k]], *s, {0.0, 0.0});
       place(vtx_of_mid[fe[k]], *s, {1.0, 0.0});
@@ -1050,13 +1102,16 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       }
 
   r.cage_vertex.assign(cage.points.size(), kNone);
-  for (std::size_t v = 0; v < vtx_of_base.size() && v < cage.points.size(); ++v) r.cage_vertex[v] = vtx_of_base[v];
+  for (std::size_t v = 0; v < vtx_of_base.size() && v < cage.points.size(); ++v)
+    r.cage_vertex[v] = vtx_of_base[v];
 
   // ---- bounding box of the limit surface (sampled: the cage's box is larger)
   // Sampled through subd_patch_domain_point: the domain of an n-gon patch is its
   // polygon (or that polygon's projection), not the unit square, and outside it sigma is
   // only an extension (far out, on a projected patch, a Taylor polynomial).
-  const auto quads = [&](Id f) { return r.patches[f].polygon.empty() ? 1 : r.patches[f].face_size; };
+  const auto quads = [&](Id f) {
+    return r.patches[f].polygon.empty() ? 1 : r.patches[f].face_size;
+  };
   const auto sample = [&](Id f, int q, double s_, double t_) {
     const Vec2 w = subd_patch_domain_point(r.patches[f], q, {s_, t_});
     return m.faces[f].surface->point(w.x, w.y);
@@ -1065,7 +1120,8 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
     constexpr int ns = 8;
     for (int q = 0; q < quads(f); ++q)
       for (int i = 0; i <= ns; ++i)
-        for (int j = 0; j <= ns - (loop ? i : 0); ++j) m.bbox.add(sample(f, q, double(i) / ns, double(j) / ns));
+        for (int j = 0; j <= ns - (loop ? i : 0); ++j)
+          m.bbox.add(sample(f, q, double(i) / ns, double(j) / ns));
   }
   for (const Vertex& v : m.vertices) m.bbox.add(v.p);
   const double D = m.bbox.diagonal();
@@ -1115,9 +1171,11 @@ SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions& opt) {
       for (int q = 0; q < quads(f); ++q)
         for (int i = 0; i < ns; ++i)
           for (int j = 0; j < ns; ++j) {
-            const double u0 = double(i) / ns, u1 = double(i + 1) / ns, v0 = double(j) / ns, v1 = double(j + 1) / ns;
+            const double u0 = double(i) / ns, u1 = double(i + 1) / ns, v0 = double(j) / ns,
+                         v1 = double(j + 1) / ns;
             if (loop && i + j >= ns) continue;
-            const Vec3 a = sample(f, q, u0, v0) - ref, b = sample(f, q, u1, v0) - ref, c = sample(f, q, u0, v1) - ref;
+            const Vec3 a = sample(f, q, u0, v0) - ref, b = sample(f, q, u1, v0) - ref,
+                       c = sample(f, q, u0, v1) - ref;
             vol += glm::dot(a, glm::cross(b, c));
             if (!loop || i + j + 1 < ns) {
               const Vec3 d = sample(f, q, u1, v1) - ref;

@@ -48,37 +48,53 @@ struct ParseError {
 }  // namespace
 
 bool parse_subd_scheme(const std::string& s, SubdScheme& out) {
-  if (s == "auto") out = SubdScheme::Auto;
-  else if (s == "catmark" || s == "catmull-clark") out = SubdScheme::CatmullClark;
-  else if (s == "loop") out = SubdScheme::Loop;
-  else return false;
+  if (s == "auto")
+    out = SubdScheme::Auto;
+  else if (s == "catmark" || s == "catmull-clark")
+    out = SubdScheme::CatmullClark;
+  else if (s == "loop")
+    out = SubdScheme::Loop;
+  else
+    return false;
   return true;
 }
 
 bool parse_subd_boundary(const std::string& s, SubdBoundary& out) {
-  if (s == "file") out = SubdBoundary::FromFile;
-  else if (s == "none") out = SubdBoundary::None;
-  else if (s == "edge-only") out = SubdBoundary::EdgeOnly;
-  else if (s == "edge-and-corner") out = SubdBoundary::EdgeAndCorner;
-  else return false;
+  if (s == "file")
+    out = SubdBoundary::FromFile;
+  else if (s == "none")
+    out = SubdBoundary::None;
+  else if (s == "edge-only")
+    out = SubdBoundary::EdgeOnly;
+  else if (s == "edge-and-corner")
+    out = SubdBoundary::EdgeAndCorner;
+  else
+    return false;
   return true;
 }
 
 std::string_view to_string(SubdScheme s) {
   switch (s) {
-    case SubdScheme::Auto: return "auto";
-    case SubdScheme::CatmullClark: return "catmark";
-    case SubdScheme::Loop: return "loop";
+    case SubdScheme::Auto:
+      return "auto";
+    case SubdScheme::CatmullClark:
+      return "catmark";
+    case SubdScheme::Loop:
+      return "loop";
   }
   return "auto";
 }
 
 std::string_view to_string(SubdBoundary b) {
   switch (b) {
-    case SubdBoundary::FromFile: return "file";
-    case SubdBoundary::None: return "none";
-    case SubdBoundary::EdgeOnly: return "edge-only";
-    case SubdBoundary::EdgeAndCorner: return "edge-and-corner";
+    case SubdBoundary::FromFile:
+      return "file";
+    case SubdBoundary::None:
+      return "none";
+    case SubdBoundary::EdgeOnly:
+      return "edge-only";
+    case SubdBoundary::EdgeAndCorner:
+      return "edge-and-corner";
   }
   return "file";
 }
@@ -103,11 +119,15 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
         if (tok.size() < 4 || tok.size() > 5) throw ParseError{ln, "expected 'v x y z'"};
         Vec3 p;
         for (int k = 0; k < 3; ++k) {
-          if (!to_number(tok[1 + k], p[k])) throw ParseError{ln, "malformed vertex coordinate '" + std::string(tok[1 + k]) + "'"};
-          if (!std::isfinite(p[k])) throw ParseError{ln, "vertex coordinate is not finite (" + std::string(tok[1 + k]) + ")"};
+          if (!to_number(tok[1 + k], p[k]))
+            throw ParseError{ln, "malformed vertex coordinate '" + std::string(tok[1 + k]) + "'"};
+          if (!std::isfinite(p[k]))
+            throw ParseError{ln,
+                             "vertex coordinate is not finite (" + std::string(tok[1 + k]) + ")"};
           if (std::abs(p[k]) > kMaxAbsCoordinate)
-            throw ParseError{ln, "vertex coordinate " + std::string(tok[1 + k]) +
-                                     " is beyond the accepted magnitude 1e12 (corrupted coordinate?)"};
+            throw ParseError{ln,
+                             "vertex coordinate " + std::string(tok[1 + k]) +
+                                 " is beyond the accepted magnitude 1e12 (corrupted coordinate?)"};
         }
         c.points.push_back(p);
       } else if (kw == "f") {
@@ -117,18 +137,22 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
           // "v", "v/vt", "v//vn", "v/vt/vn": only the vertex index matters.
           const std::string_view vs = tok[k].substr(0, tok[k].find('/'));
           long idx = 0;
-          if (!to_number(vs, idx)) throw ParseError{ln, "malformed face index '" + std::string(tok[k]) + "'"};
+          if (!to_number(vs, idx))
+            throw ParseError{ln, "malformed face index '" + std::string(tok[k]) + "'"};
           if (idx == 0) throw ParseError{ln, "face index 0 (OBJ indices start at 1)"};
           long v0 = 0;
           if (idx < 0) {
             v0 = static_cast<long>(c.points.size()) + idx;  // relative to the vertices so far
             if (v0 < 0)
-              throw ParseError{ln, "face index " + std::to_string(idx) + " refers before the first vertex (" +
+              throw ParseError{ln, "face index " + std::to_string(idx) +
+                                       " refers before the first vertex (" +
                                        std::to_string(c.points.size()) + " defined so far)"};
           } else {
             v0 = idx - 1;
-            if (v0 > 0x7fffffffL - 1) throw ParseError{ln, "face index " + std::to_string(idx) + " is too large"};
-            if (v0 >= static_cast<long>(c.points.size())) forward_refs.push_back({static_cast<int>(v0), ln});
+            if (v0 > 0x7fffffffL - 1)
+              throw ParseError{ln, "face index " + std::to_string(idx) + " is too large"};
+            if (v0 >= static_cast<long>(c.points.size()))
+              forward_refs.push_back({static_cast<int>(v0), ln});
           }
           c.face_verts.push_back(static_cast<int>(v0));
         }
@@ -143,34 +167,42 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
         std::array<int, 3> n{};
         {
           const std::string_view cs = tok[2];
-          const auto s1 = cs.find('/'), s2 = s1 == std::string_view::npos ? s1 : cs.find('/', s1 + 1);
+          const auto s1 = cs.find('/'),
+                     s2 = s1 == std::string_view::npos ? s1 : cs.find('/', s1 + 1);
           if (s2 == std::string_view::npos || !to_number(cs.substr(0, s1), n[0]) ||
-              !to_number(cs.substr(s1 + 1, s2 - s1 - 1), n[1]) || !to_number(cs.substr(s2 + 1), n[2]) || n[0] < 0 ||
-              n[1] < 0 || n[2] < 0)
-            throw ParseError{ln, "malformed tag counts '" + std::string(cs) + "' (expected nint/nfloat/nstring)"};
+              !to_number(cs.substr(s1 + 1, s2 - s1 - 1), n[1]) ||
+              !to_number(cs.substr(s2 + 1), n[2]) || n[0] < 0 || n[1] < 0 || n[2] < 0)
+            throw ParseError{ln, "malformed tag counts '" + std::string(cs) +
+                                     "' (expected nint/nfloat/nstring)"};
         }
         // Summed in 64 bits: three counts near INT_MAX overflow int.
         const std::int64_t nargs = std::int64_t{n[0]} + n[1] + n[2];
         if (static_cast<std::int64_t>(tok.size()) != 3 + nargs)
-          throw ParseError{ln, "tag '" + tname + "' announces " + std::to_string(nargs) + " arguments but has " +
-                                   std::to_string(tok.size() - 3)};
+          throw ParseError{ln, "tag '" + tname + "' announces " + std::to_string(nargs) +
+                                   " arguments but has " + std::to_string(tok.size() - 3)};
         std::vector<int> ia(n[0]);
         std::vector<float> fa(n[1]);
         std::vector<std::string> sa;
         for (int k = 0; k < n[0]; ++k)
-          if (!to_number(tok[3 + k], ia[k])) throw ParseError{ln, "malformed integer '" + std::string(tok[3 + k]) + "' in tag '" + tname + "'"};
+          if (!to_number(tok[3 + k], ia[k]))
+            throw ParseError{
+                ln, "malformed integer '" + std::string(tok[3 + k]) + "' in tag '" + tname + "'"};
         for (int k = 0; k < n[1]; ++k) {
           const auto& s = tok[3 + n[0] + k];
           if (!to_number(s, fa[k]) || !std::isfinite(fa[k]))
-            throw ParseError{ln, "malformed number '" + std::string(s) + "' in tag '" + tname + "'"};
+            throw ParseError{ln,
+                             "malformed number '" + std::string(s) + "' in tag '" + tname + "'"};
         }
         for (int k = 0; k < n[2]; ++k) sa.emplace_back(tok[3 + n[0] + n[1] + k]);
         for (int i : ia)
-          if (i < 0) throw ParseError{ln, "negative index " + std::to_string(i) + " in tag '" + tname + "' (tag indices are 0-based)"};
+          if (i < 0)
+            throw ParseError{ln, "negative index " + std::to_string(i) + " in tag '" + tname +
+                                     "' (tag indices are 0-based)"};
         if (tname == "crease") {
           // A chain of vertices; one sharpness for all its edges or one per edge.
           if (n[0] < 2 || (n[1] != 1 && n[1] != n[0] - 1))
-            throw ParseError{ln, "crease: expected 2 or more vertices and 1 sharpness (or one per edge)"};
+            throw ParseError{
+                ln, "crease: expected 2 or more vertices and 1 sharpness (or one per edge)"};
           for (int k = 0; k + 1 < n[0]; ++k)
             c.creases.push_back({ia[k], ia[k + 1], fa[n[1] == 1 ? 0 : k], ln});
         } else if (tname == "corner") {
@@ -180,7 +212,8 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
         } else if (tname == "hole") {
           for (int k = 0; k < n[0]; ++k) c.holes.push_back({ia[k], ln});
         } else if (tname == "interpolateboundary") {
-          if (n[0] != 1 || ia[0] > 2) throw ParseError{ln, "interpolateboundary: expected one integer 0, 1 or 2"};
+          if (n[0] != 1 || ia[0] > 2)
+            throw ParseError{ln, "interpolateboundary: expected one integer 0, 1 or 2"};
           c.interpolate_boundary = ia[0];
         } else if (tname == "creasemethod") {
           if (n[2] != 1 || (sa[0] != "normal" && sa[0] != "chaikin"))
@@ -189,17 +222,19 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
         } else {
           c.warnings.push_back(name + ":" + std::to_string(ln) + ": tag '" + tname + "' ignored");
         }
-      } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "g" || kw == "o" || kw == "s" || kw == "usemtl" ||
-                 kw == "mtllib" || kw == "l") {
+      } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "g" || kw == "o" || kw == "s" ||
+                 kw == "usemtl" || kw == "mtllib" || kw == "l") {
         continue;  // texture, normals, grouping and materials do not change the limit surface
       } else {
-        c.warnings.push_back(name + ":" + std::to_string(ln) + ": statement '" + std::string(kw) + "' ignored");
+        c.warnings.push_back(name + ":" + std::to_string(ln) + ": statement '" + std::string(kw) +
+                             "' ignored");
       }
     }
     for (const auto& [idx, fl] : forward_refs)
       if (idx >= static_cast<int>(c.points.size()))
-        throw ParseError{fl, "face references vertex " + std::to_string(idx + 1) + " but the file has only " +
-                                 std::to_string(c.points.size()) + " vertices"};
+        throw ParseError{fl, "face references vertex " + std::to_string(idx + 1) +
+                                 " but the file has only " + std::to_string(c.points.size()) +
+                                 " vertices"};
     if (ln == 0) throw ParseError{0, "the file is empty"};
     if (c.face_sizes.empty()) throw ParseError{ln, "no faces"};
   } catch (const ParseError& e) {
@@ -245,7 +280,8 @@ static void ngon_quad(const std::vector<Vec2>& poly, int k, Vec2& p00, Vec2& p10
 Vec2 ngon_domain_point(const std::vector<Vec2>& poly, Vec2 c, int k, Vec2 st) {
   Vec2 p00, p10, p01;
   ngon_quad(poly, k, p00, p10, p01);
-  return (1 - st.x) * (1 - st.y) * p00 + st.x * (1 - st.y) * p10 + st.x * st.y * c + (1 - st.x) * st.y * p01;
+  return (1 - st.x) * (1 - st.y) * p00 + st.x * (1 - st.y) * p10 + st.x * st.y * c +
+         (1 - st.x) * st.y * p01;
 }
 
 Vec2 subd_patch_domain_point(const SubdPatch& P, int q, Vec2 st) {
@@ -275,10 +311,14 @@ Vec2 ngon_subface_coords(const std::vector<Vec2>& poly, Vec2 c, int k, Vec2 x) {
 }
 
 #ifndef UVMESH_HAVE_OSD
-bool have_opensubdiv() { return false; }
+bool have_opensubdiv() {
+  return false;
+}
 SubdModelResult model_from_cage(const SubdCage& cage, const SubdOptions&) {
   SubdModelResult r;
-  r.error = cage.source + ": this uvmesh was built without OpenSubdiv (libosd-dev): cannot evaluate subdivision surfaces";
+  r.error = cage.source +
+            ": this uvmesh was built without OpenSubdiv (libosd-dev): cannot evaluate subdivision "
+            "surfaces";
   return r;
 }
 #endif

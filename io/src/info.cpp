@@ -2,13 +2,12 @@
 #include "uvmesh/io/info.h"
 
 #include <nlohmann/json.hpp>
-
 #include <sstream>
 
 namespace uvmesh::io {
 
-std::string info_json(const geom::Model& m, const geom::ModelStats& s, const ReadReport& r, bool heal_enabled,
-                      int indent) {
+std::string info_json(const geom::Model& m, const geom::ModelStats& s, const ReadReport& r,
+                      bool heal_enabled, int indent) {
   using nlohmann::json;
   json j;
   j["file"] = m.source;
@@ -26,7 +25,10 @@ std::string info_json(const geom::Model& m, const geom::ModelStats& s, const Rea
   j["file_units"] = r.file_units;
   j["file_units_declared"] = r.file_units_declared;
   j["units_converted"] = r.units_converted;
-  j["counts"] = {{"solids", s.solids}, {"shells", s.shells}, {"faces", s.faces}, {"edges", s.edges},
+  j["counts"] = {{"solids", s.solids},
+                 {"shells", s.shells},
+                 {"faces", s.faces},
+                 {"edges", s.edges},
                  {"vertices", s.vertices}};
   j["surface_kinds"] = s.surface_kinds;
   j["curve_kinds"] = s.curve_kinds;
@@ -72,46 +74,52 @@ std::string info_json(const geom::Model& m, const geom::ModelStats& s, const Rea
   return j.dump(indent);
 }
 
-std::string info_text(const geom::Model& m, const geom::ModelStats& s, const ReadReport& r, bool heal_enabled) {
+std::string info_text(const geom::Model& m, const geom::ModelStats& s, const ReadReport& r,
+                      bool heal_enabled) {
   std::ostringstream os;
   os << m.source << "  (" << m.format << ")\n";
   os << "  units: ";
   if (m.units.empty()) {
-    os << "unitless (" << (m.format == "brep" ? "BREP files carry no length unit" : "none declared") << ")\n";
+    os << "unitless (" << (m.format == "brep" ? "BREP files carry no length unit" : "none declared")
+       << ")\n";
   } else {
     os << m.units << " (1 " << m.units << " = ";
     if (m.units != "mm") os << r.mm_per_unit << " mm = ";
     os << r.mm_per_unit / 1000.0 << " m)";
     if (r.units_converted)
-      os << ", converted from the file's " << (r.file_units.empty() ? r.file_units_declared : r.file_units);
+      os << ", converted from the file's "
+         << (r.file_units.empty() ? r.file_units_declared : r.file_units);
     else
       os << ", as declared by the file";
     if (!r.file_units_declared.empty() && r.file_units_declared != m.units)
       os << " ('" << r.file_units_declared << "')";
     os << "\n";
   }
-  os << "  solids " << s.solids << ", shells " << s.shells << " (" << s.open_shells << " open), faces " << s.faces
-     << ", edges " << s.edges << ", vertices " << s.vertices << "\n";
+  os << "  solids " << s.solids << ", shells " << s.shells << " (" << s.open_shells
+     << " open), faces " << s.faces << ", edges " << s.edges << ", vertices " << s.vertices << "\n";
   os << "  surfaces:";
   for (const auto& [k, n] : s.surface_kinds) os << " " << k << ":" << n;
   os << "\n  curves:  ";
   for (const auto& [k, n] : s.curve_kinds) os << " " << k << ":" << n;
-  os << "\n  seam edges " << s.seam_edges << " (on " << s.faces_with_seams << " faces), degenerate edges "
-     << s.degenerate_edges << ", free edges " << s.free_edges << ", non-manifold edges " << s.non_manifold_edges
-     << "\n  edges shorter than " << s.short_edge_threshold << " (1e-3 of the diagonal): " << s.short_edges
-     << " (shortest " << s.min_edge_length << ")\n";
+  os << "\n  seam edges " << s.seam_edges << " (on " << s.faces_with_seams
+     << " faces), degenerate edges " << s.degenerate_edges << ", free edges " << s.free_edges
+     << ", non-manifold edges " << s.non_manifold_edges << "\n  edges shorter than "
+     << s.short_edge_threshold << " (1e-3 of the diagonal): " << s.short_edges << " (shortest "
+     << s.min_edge_length << ")\n";
   if (!m.bbox.empty())
-    os << "  bbox [" << m.bbox.lo.x << ", " << m.bbox.lo.y << ", " << m.bbox.lo.z << "] - [" << m.bbox.hi.x << ", "
-       << m.bbox.hi.y << ", " << m.bbox.hi.z << "], diagonal " << m.bbox.diagonal()
-       << (m.units.empty() ? "" : " " + m.units) << "\n";
+    os << "  bbox [" << m.bbox.lo.x << ", " << m.bbox.lo.y << ", " << m.bbox.lo.z << "] - ["
+       << m.bbox.hi.x << ", " << m.bbox.hi.y << ", " << m.bbox.hi.z << "], diagonal "
+       << m.bbox.diagonal() << (m.units.empty() ? "" : " " + m.units) << "\n";
   if (r.validity_checked)
-    os << "  OCC validity: " << (s.faces - s.invalid_faces) << " of " << s.faces << " faces valid\n";
+    os << "  OCC validity: " << (s.faces - s.invalid_faces) << " of " << s.faces
+       << " faces valid\n";
   else
     os << "  OCC validity: not checked (--no-check)\n";
   for (std::size_t f = 0; f < m.faces.size(); ++f)
     if (!m.faces[f].valid) os << "    face " << f << ": " << m.faces[f].invalid_reason << "\n";
   if (s.vertex_gaps > 0)
-    os << "  " << s.vertex_gaps << " vertex/edge-end gaps beyond 1e3 tolerances (max " << s.max_vertex_gap << ")\n";
+    os << "  " << s.vertex_gaps << " vertex/edge-end gaps beyond 1e3 tolerances (max "
+       << s.max_vertex_gap << ")\n";
   if (!heal_enabled) {
     os << "  healing: off (--no-heal)\n";
   } else {
@@ -120,8 +128,8 @@ std::string info_text(const geom::Model& m, const geom::ModelStats& s, const Rea
       os << "    " << h.name << (h.applied ? " [applied] " : " [no change] ") << h.detail << "\n";
   }
   for (const std::string& w : r.warnings) os << "  warning: " << w << "\n";
-  os << "  time: read " << r.read_seconds << " s, heal " << r.heal_seconds << " s, model " << r.build_seconds
-     << " s\n";
+  os << "  time: read " << r.read_seconds << " s, heal " << r.heal_seconds << " s, model "
+     << r.build_seconds << " s\n";
   return os.str();
 }
 

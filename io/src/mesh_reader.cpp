@@ -1006,7 +1006,8 @@ void read_ply(const std::string& data, MeshReadResult& r) {
       // count of 1e9 read nothing and took minutes (fuzz_mesh_ply). Vertices and faces
       // without properties cannot be read.
       if ((is_vertex || is_face) && e.count > 0)
-        fail(where() + ": element '" + e.name + "' has " + std::to_string(e.count) + " entries but no properties");
+        fail(where() + ": element '" + e.name + "' has " + std::to_string(e.count) +
+             " entries but no properties");
       have_vertices = have_vertices || is_vertex;
       continue;
     }

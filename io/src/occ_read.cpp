@@ -1,17 +1,18 @@
 // OCC side of the CAD readers: STEP / IGES / BREP import, healing (ShapeFix, sewing,
 // general fuse), and the geom::Model build. The only io translation unit with OCCT.
 #define OCC_CONVERT_SIGNALS 1
+#include <tbb/task_arena.h>
+
 #include <BOPAlgo_GlueEnum.hxx>
 #include <BRepAlgoAPI_BuilderAlgo.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepGProp.hxx>
-#include <TopoDS_Edge.hxx>
-#include <GProp_GProps.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
 #include <IGESData_GlobalSection.hxx>
@@ -23,10 +24,10 @@
 #include <OSD.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeBuild_ReShape.hxx>
-#include <StepRepr_RepresentationItem.hxx>
 #include <ShapeFix_Shape.hxx>
 #include <Standard_ErrorHandler.hxx>
 #include <Standard_Failure.hxx>
+#include <StepRepr_RepresentationItem.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
 #include <TCollection_HAsciiString.hxx>
 #include <TopExp.hxx>
@@ -35,14 +36,14 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
-#include <TopoDS_Iterator.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Iterator.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TransferBRep.hxx>
 #include <Transfer_TransientProcess.hxx>
 #include <XSControl_TransferReader.hxx>
 #include <XSControl_WorkSession.hxx>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -54,8 +55,6 @@
 #include <string>
 #include <unordered_map>
 #include <vector>
-
-#include <tbb/task_arena.h>
 
 #include "uvmesh/geom/occ.h"
 #include "uvmesh/io/cad_reader.h"
@@ -122,7 +121,8 @@ Counts count(const TopoDS_Shape& s) {
 // of the shell is in a solid or already taken, else one by one). A file may list a solid's
 // shell or faces again next to it (gmsh_ellipses: 15 solids and 66 such pieces): those
 // are the solid's, not loose. Wires, edges and vertices carry nothing to mesh.
-void collect_conform_pieces(const TopoDS_Shape& shape, TopTools_ListOfShape& solids, TopTools_ListOfShape& loose) {
+void collect_conform_pieces(const TopoDS_Shape& shape, TopTools_ListOfShape& solids,
+                            TopTools_ListOfShape& loose) {
   std::vector<TopoDS_Shape> others;
   std::function<void(const TopoDS_Shape&)> walk = [&](const TopoDS_Shape& s) {
     switch (s.ShapeType()) {
@@ -194,12 +194,16 @@ std::string fuse_alerts(const BRepAlgoAPI_BuilderAlgo& op) {
   std::istringstream in(dump.str());
   for (std::string line; std::getline(in, line);) {
     if (line.empty()) continue;
-    auto it = std::find_if(seen.begin(), seen.end(), [&](const auto& p) { return p.first == line; });
-    if (it == seen.end()) seen.emplace_back(line, 1);
-    else ++it->second;
+    auto it =
+        std::find_if(seen.begin(), seen.end(), [&](const auto& p) { return p.first == line; });
+    if (it == seen.end())
+      seen.emplace_back(line, 1);
+    else
+      ++it->second;
   }
   std::string out;
-  for (const auto& [name, n] : seen) out += (out.empty() ? "" : ", ") + name + " x" + std::to_string(n);
+  for (const auto& [name, n] : seen)
+    out += (out.empty() ? "" : ", ") + name + " x" + std::to_string(n);
   return out;
 }
 
@@ -249,17 +253,28 @@ std::string counts_text(const HealStep& h) {
 
 const char* iges_unit_name(int flag) {
   switch (flag) {
-    case 1: return "inch";
-    case 2: return "mm";
-    case 4: return "ft";
-    case 5: return "mi";
-    case 6: return "m";
-    case 7: return "km";
-    case 8: return "mil";
-    case 9: return "um";
-    case 10: return "cm";
-    case 11: return "uin";
-    default: return "";
+    case 1:
+      return "inch";
+    case 2:
+      return "mm";
+    case 4:
+      return "ft";
+    case 5:
+      return "mi";
+    case 6:
+      return "m";
+    case 7:
+      return "km";
+    case 8:
+      return "mil";
+    case 9:
+      return "um";
+    case 10:
+      return "cm";
+    case 11:
+      return "uin";
+    default:
+      return "";
   }
 }
 
@@ -295,13 +310,14 @@ class ScopedTransferTolerances {
 
 // The unit the coordinates come out in: the requested one, else the file's; a file that
 // declares no unit or one not known here is left to OCC's default conversion to mm.
-std::string target_unit(const std::string& requested, const std::string& declared, ReadReport& rep) {
+std::string target_unit(const std::string& requested, const std::string& declared,
+                        ReadReport& rep) {
   if (!requested.empty()) return requested;
   if (!rep.file_units.empty()) return rep.file_units;
-  rep.warnings.push_back(declared.empty()
-                             ? "the file declares no length unit: coordinates taken as mm (OCC's default)"
-                             : "the file's length unit '" + declared +
-                                   "' is not one uvmesh knows: coordinates converted to mm by OCC");
+  rep.warnings.push_back(
+      declared.empty() ? "the file declares no length unit: coordinates taken as mm (OCC's default)"
+                       : "the file's length unit '" + declared +
+                             "' is not one uvmesh knows: coordinates converted to mm by OCC");
   return "mm";
 }
 
@@ -319,7 +335,8 @@ struct ShapeNames {
     const Handle(Transfer_TransientProcess) tp = tr->TransientProcess();
     if (tp.IsNull()) return;
     for (int i = 1; i <= tp->NbMapped(); ++i) {
-      const Handle(StepRepr_RepresentationItem) item = Handle(StepRepr_RepresentationItem)::DownCast(tp->Mapped(i));
+      const Handle(StepRepr_RepresentationItem) item =
+          Handle(StepRepr_RepresentationItem)::DownCast(tp->Mapped(i));
       // "NONE" is the placeholder several CAD systems write for "no name".
       if (item.IsNull() || item->Name().IsNull() || item->Name()->Length() == 0 ||
           item->Name()->IsSameString(new TCollection_HAsciiString("NONE")))
@@ -327,7 +344,8 @@ struct ShapeNames {
       const Handle(Transfer_Binder) binder = tp->MapItem(i);
       if (binder.IsNull()) continue;
       const TopoDS_Shape sh = TransferBRep::ShapeResult(binder);
-      if (sh.IsNull() || (sh.ShapeType() != TopAbs_FACE && sh.ShapeType() != TopAbs_SOLID)) continue;
+      if (sh.IsNull() || (sh.ShapeType() != TopAbs_FACE && sh.ShapeType() != TopAbs_SOLID))
+        continue;
       items.emplace_back(sh, item->Name()->ToCString());
     }
   }
@@ -370,12 +388,14 @@ struct ShapeNames {
 // rescaling, which would round every coordinate and leave tolerances in the wrong unit).
 // OCCT 7.6 ignores Interface_Static "xstep.cascade.unit" in these readers (checked: a STEP
 // file in cm still comes out in mm with it set to CM).
-std::string read_shape(const std::string& path, CadFormat fmt, const std::string& requested, TopoDS_Shape& shape,
-                       ReadReport& rep, std::string& units, ShapeNames& shape_names) {
+std::string read_shape(const std::string& path, CadFormat fmt, const std::string& requested,
+                       TopoDS_Shape& shape, ReadReport& rep, std::string& units,
+                       ShapeNames& shape_names) {
   rep.format = std::string(to_string(fmt));
   if (fmt == CadFormat::Step) {
     STEPControl_Reader reader;
-    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return "the STEP reader rejected the file";
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+      return "the STEP reader rejected the file";
     TColStd_SequenceOfAsciiString lu, au, su;
     reader.FileUnits(lu, au, su);
     std::vector<std::string> names;  // distinct length units of the shape representations
@@ -402,7 +422,8 @@ std::string read_shape(const std::string& path, CadFormat fmt, const std::string
     shape_names.collect(reader);
   } else if (fmt == CadFormat::Iges) {
     IGESControl_Reader reader;
-    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) return "the IGES reader rejected the file";
+    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+      return "the IGES reader rejected the file";
     const Handle(IGESData_IGESModel) model = reader.IGESModel();
     if (model.IsNull()) return "the IGES reader produced no model";
     IGESData_GlobalSection gs = model->GlobalSection();
@@ -456,8 +477,9 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
   const CadFormat ext = format_from_extension(path);
   if (pre.content != CadFormat::Unknown && ext != CadFormat::Unknown && ext != pre.content &&
       !opt.trust_content)
-    return fail("wrong extension: the name says " + std::string(to_string(ext)) + " but the content is " +
-                std::string(to_string(pre.content)) + " (rename the file, or allow reading by content)");
+    return fail("wrong extension: the name says " + std::string(to_string(ext)) +
+                " but the content is " + std::string(to_string(pre.content)) +
+                " (rename the file, or allow reading by content)");
   if (!pre.ok) return fail(pre.error);
   for (const std::string& w : pre.warnings) res.report.warnings.push_back(w);
   if (ext != CadFormat::Unknown && ext != pre.content)
@@ -468,7 +490,8 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
   if (!opt.units.empty()) {
     requested_units = canonical_length_unit(opt.units);
     if (requested_units.empty())
-      return fail("unknown length unit '" + opt.units + "' requested (known: " + known_length_units() + ")");
+      return fail("unknown length unit '" + opt.units +
+                  "' requested (known: " + known_length_units() + ")");
   }
 
   std::lock_guard<std::mutex> lock(g_occ_mutex);
@@ -479,7 +502,9 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
   std::string stage = "reading";
   try {
     OCC_CATCH_SIGNALS
-    if (std::string e = read_shape(path, pre.content, requested_units, shape, res.report, units, names); !e.empty())
+    if (std::string e =
+            read_shape(path, pre.content, requested_units, shape, res.report, units, names);
+        !e.empty())
       return fail(e);
     res.report.read_seconds = seconds_since(t0);
 
@@ -487,7 +512,8 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     if (c0.faces == 0) {
       if (pre.step_tessellated_faces > 0)
         return fail("no B-rep faces: the file carries only tessellated geometry (" +
-                    std::to_string(pre.step_tessellated_faces) + " triangulated faces), nothing to mesh");
+                    std::to_string(pre.step_tessellated_faces) +
+                    " triangulated faces), nothing to mesh");
       return fail(shape.IsNull() ? "no shape could be transferred from the file (empty result)"
                                  : "the file contains no faces (empty or wire-only result)");
     }
@@ -510,8 +536,9 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
         const bool loses = c1.faces < c0.faces || c1.solids < c0.solids;
         h.applied = changed && !loses;
         h.detail = !changed ? "ShapeFix_Shape found nothing to fix"
-                   : loses  ? "ShapeFix_Shape result not kept, it would lose entities: " + counts_text(h)
-                            : "ShapeFix_Shape modified the shape: " + counts_text(h);
+                   : loses
+                       ? "ShapeFix_Shape result not kept, it would lose entities: " + counts_text(h)
+                       : "ShapeFix_Shape modified the shape: " + counts_text(h);
         if (changed && loses) res.report.warnings.push_back(h.detail);
         if (h.applied) {
           shape = fixed;
@@ -580,11 +607,15 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
             continue;
           }
           os << "free edges " << c0.free_edges << "->" << t.counts.free_edges;
-          if (t.counts.faces < c0.faces || t.counts.solids < c0.solids) os << " (would lose faces or solids)";
+          if (t.counts.faces < c0.faces || t.counts.solids < c0.solids)
+            os << " (would lose faces or solids)";
           if (&t == best) os << " [kept]";
         }
-        if (tries.size() == 1 && tries.front().sewn.IsNull()) h.detail = "sewing produced no shape (not kept)";
-        else h.detail = os.str() + (best ? " -- " + counts_text(h) : " (not kept: no free edge closed)");
+        if (tries.size() == 1 && tries.front().sewn.IsNull())
+          h.detail = "sewing produced no shape (not kept)";
+        else
+          h.detail =
+              os.str() + (best ? " -- " + counts_text(h) : " (not kept: no free edge closed)");
         if (best) {
           shape = best->sewn;
           c0 = best->counts;
@@ -623,10 +654,11 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
         fuse.Build();
       }
       HealStep h;
-      const std::string pieces = std::to_string(args.Extent()) + " solids" +
-                                 (loose.IsEmpty() ? std::string()
-                                                  : " (" + std::to_string(loose.Extent()) +
-                                                        " shells or faces outside them kept as they are)");
+      const std::string pieces =
+          std::to_string(args.Extent()) + " solids" +
+          (loose.IsEmpty() ? std::string()
+                           : " (" + std::to_string(loose.Extent()) +
+                                 " shells or faces outside them kept as they are)");
       TopoDS_Shape out;
       if (fuse.IsDone() && !fuse.HasErrors()) {
         out = fuse.Shape();
@@ -661,7 +693,8 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
       } else {
         h = make_step("conform", c0, c0);
         std::ostringstream os;
-        if (out.IsNull()) os << "general fuse of " << pieces << " failed";
+        if (out.IsNull())
+          os << "general fuse of " << pieces << " failed";
         else
           os << "general fuse of " << pieces << " not kept: it would leave " << open_after
              << " solid(s) with free edges, the input has " << open_before;
@@ -685,7 +718,8 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     res.report.validity_checked = opt.check_validity;
     res.model = geom::model_from_occ(shape, mo);
     names.apply(shape, res.model);
-    for (const geom::VertexSplit& v : res.model.vertex_splits) res.report.warnings.push_back(v.reason);
+    for (const geom::VertexSplit& v : res.model.vertex_splits)
+      res.report.warnings.push_back(v.reason);
     res.report.build_seconds = seconds_since(tb);
   } catch (const Standard_Failure& f) {
     return fail("OpenCASCADE failed while " + stage + ": " + occ_message(f));

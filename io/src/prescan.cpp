@@ -85,7 +85,10 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
         std::size_t j = i + 1;
         while (j < t.size()) {
           if (t[j] == '\'') {
-            if (j + 1 < t.size() && t[j + 1] == '\'') { j += 2; continue; }
+            if (j + 1 < t.size() && t[j + 1] == '\'') {
+              j += 2;
+              continue;
+            }
             break;
           }
           ++j;
@@ -100,7 +103,10 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
         continue;
       }
       ++i;
-      if (c == ';') { closed = true; break; }
+      if (c == ';') {
+        closed = true;
+        break;
+      }
       if (c != '\n' && c != '\r') stmt += c;
     }
     // Trim.
@@ -111,26 +117,34 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
     }
     std::string_view s(stmt);
     s.remove_prefix(b);
-    if (!closed) return fail("truncated: the file ends inside a statement of the DATA section (no END-ISO-10303-21;)");
+    if (!closed)
+      return fail(
+          "truncated: the file ends inside a statement of the DATA section (no END-ISO-10303-21;)");
     if (s.rfind("ENDSEC", 0) == 0) continue;
-    if (s.rfind("END-ISO-10303-21", 0) == 0) { ended = true; break; }
+    if (s.rfind("END-ISO-10303-21", 0) == 0) {
+      ended = true;
+      break;
+    }
     if (s.rfind("DATA", 0) == 0) continue;  // a second DATA section
     if (s[0] != '#') {
       // OCC skips a garbled statement and reports the entities it could not read; so do
       // we (OCC bug 32314's "corrupted" file has such lines and still loads).
       ++r.malformed_statements;
       if (r.warnings.size() < 5)
-        r.warnings.push_back("malformed STEP statement skipped: '" + std::string(s.substr(0, 60)) + "'");
+        r.warnings.push_back("malformed STEP statement skipped: '" + std::string(s.substr(0, 60)) +
+                             "'");
       continue;
     }
     // Defined id.
     std::size_t k = 1;
     long long id = 0;
-    while (k < s.size() && std::isdigit(static_cast<unsigned char>(s[k]))) id = id * 10 + (s[k++] - '0');
+    while (k < s.size() && std::isdigit(static_cast<unsigned char>(s[k])))
+      id = id * 10 + (s[k++] - '0');
     defined.insert(id);
     ++r.step_entities;
     const bool point = s.find("CARTESIAN_POINT") != std::string_view::npos;
-    if (s.find("ADVANCED_FACE") != std::string_view::npos || s.find("FACE_SURFACE") != std::string_view::npos)
+    if (s.find("ADVANCED_FACE") != std::string_view::npos ||
+        s.find("FACE_SURFACE") != std::string_view::npos)
       ++r.step_brep_faces;
     if (s.find("TRIANGULATED_FACE") != std::string_view::npos ||
         s.find("TESSELLATED_FACE") != std::string_view::npos)
@@ -139,7 +153,8 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
     const std::size_t eq = s.find('=', k);
     if (eq == std::string_view::npos) {
       ++r.malformed_statements;
-      if (r.warnings.size() < 5) r.warnings.push_back("malformed STEP entity #" + std::to_string(id) + " (no '=')");
+      if (r.warnings.size() < 5)
+        r.warnings.push_back("malformed STEP entity #" + std::to_string(id) + " (no '=')");
       continue;
     }
     for (std::size_t j = eq + 1; j < s.size();) {
@@ -147,7 +162,8 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
       if (c == '#') {
         long long ref = 0;
         std::size_t m = j + 1;
-        while (m < s.size() && std::isdigit(static_cast<unsigned char>(s[m]))) ref = ref * 10 + (s[m++] - '0');
+        while (m < s.size() && std::isdigit(static_cast<unsigned char>(s[m])))
+          ref = ref * 10 + (s[m++] - '0');
         if (m > j + 1) refs.emplace_back(id, ref);
         j = m;
       } else if (c == '.') {  // enumeration .NAME. or a number like .5
@@ -167,9 +183,11 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
         if (n == 0) {
           // A sign before a word: "-NaN", "+INF".
           std::size_t m = j + 1;
-          while (m < s.size() && (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_')) ++m;
+          while (m < s.size() && (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_'))
+            ++m;
           if (is_nonfinite_word(s.substr(j, m - j)))
-            return fail("entity #" + std::to_string(id) + " has a non-finite number '" + std::string(s.substr(j, m - j)) + "'");
+            return fail("entity #" + std::to_string(id) + " has a non-finite number '" +
+                        std::string(s.substr(j, m - j)) + "'");
           j = m;
           continue;
         }
@@ -183,12 +201,15 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
         j += n;
       } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
         std::size_t m = j;
-        while (m < s.size() && (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_' || s[m] == '-')) ++m;
+        while (m < s.size() &&
+               (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_' || s[m] == '-'))
+          ++m;
         std::size_t after = m;
         while (after < s.size() && s[after] == ' ') ++after;
         const bool is_type = after < s.size() && s[after] == '(';
         if (!is_type && is_nonfinite_word(s.substr(j, m - j)))
-          return fail("entity #" + std::to_string(id) + " has a non-finite number '" + std::string(s.substr(j, m - j)) + "'");
+          return fail("entity #" + std::to_string(id) + " has a non-finite number '" +
+                      std::string(s.substr(j, m - j)) + "'");
         j = m;
       } else {
         ++j;
@@ -196,8 +217,8 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
     }
   }
   if (!ended)
-    return fail("truncated: no END-ISO-10303-21; after the DATA section (" + std::to_string(r.step_entities) +
-                " entities read)");
+    return fail("truncated: no END-ISO-10303-21; after the DATA section (" +
+                std::to_string(r.step_entities) + " entities read)");
   // A reference to an entity that is defined nowhere. In an otherwise well-formed file
   // that is an inconsistency OCC would paper over by dropping faces silently: an error.
   // When statements were garbled, dangling references are the visible consequence of
@@ -207,7 +228,8 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
   for (const auto& [from, to] : refs)
     if (!defined.count(to)) {
       if (dangling++ == 0)
-        first = "entity #" + std::to_string(from) + " references #" + std::to_string(to) + ", which is not defined";
+        first = "entity #" + std::to_string(from) + " references #" + std::to_string(to) +
+                ", which is not defined";
     }
   r.dangling_references = dangling;
   if (dangling > 0) {
@@ -236,9 +258,15 @@ PrescanResult scan_iges(std::string_view t, const PrescanOptions&) {
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.empty()) continue;
     ++lines;
-    if (line.size() < 73) { ++bad_lines; continue; }
+    if (line.size() < 73) {
+      ++bad_lines;
+      continue;
+    }
     const auto k = letters.find(line[72]);
-    if (k == std::string::npos) { ++bad_lines; continue; }
+    if (k == std::string::npos) {
+      ++bad_lines;
+      continue;
+    }
     ++count[k];
     if (line[72] == 'P') {
       // Free-format parameters in columns 1-64: numbers and Hollerith strings.
@@ -249,18 +277,20 @@ PrescanResult scan_iges(std::string_view t, const PrescanOptions&) {
         std::size_t m = j;
         while (m < p.size() && p[m] != ',' && p[m] != ';' && p[m] != ' ') ++m;
         if (m > j && is_nonfinite_word(p.substr(j, m - j)))
-          return r.error = "IGES parameter line " + std::to_string(lines) + " has a non-finite number '" +
-                           std::string(p.substr(j, m - j)) + "'",
+          return r.error = "IGES parameter line " + std::to_string(lines) +
+                           " has a non-finite number '" + std::string(p.substr(j, m - j)) + "'",
                  r;
         j = m;
       }
     }
   }
   if (lines == 0 || bad_lines * 10 > lines)
-    return r.error = "not an IGES file: " + std::to_string(bad_lines) + " of " + std::to_string(lines) +
+    return r.error = "not an IGES file: " + std::to_string(bad_lines) + " of " +
+                     std::to_string(lines) +
                      " lines lack the section letter (S, G, D, P, T) in column 73",
            r;
-  const char* names[5] = {"Start (S)", "Global (G)", "Directory Entry (D)", "Parameter Data (P)", "Terminate (T)"};
+  const char* names[5] = {"Start (S)", "Global (G)", "Directory Entry (D)", "Parameter Data (P)",
+                          "Terminate (T)"};
   for (int k = 2; k < 5; ++k)
     if (count[k] == 0) return r.error = std::string("IGES ") + names[k] + " section is missing", r;
   r.ok = true;
@@ -284,14 +314,17 @@ PrescanResult scan_brep(std::string_view t, const PrescanOptions&) {
     if (j > i) {
       const std::string_view tok = t.substr(i, j - i);
       if (is_nonfinite_word(tok))
-        return r.error = "BREP line " + std::to_string(line) + " has a non-finite number '" + std::string(tok) + "'", r;
+        return r.error = "BREP line " + std::to_string(line) + " has a non-finite number '" +
+                         std::string(tok) + "'",
+               r;
       const char c = tok[0];
-      if (std::isdigit(static_cast<unsigned char>(c)) || ((c == '-' || c == '+') && tok.size() > 1)) {
+      if (std::isdigit(static_cast<unsigned char>(c)) ||
+          ((c == '-' || c == '+') && tok.size() > 1)) {
         double v = 0;
         bool of = false;
         if (parse_number(tok, 0, v, of) > 0 && of)
-          return r.error = "BREP line " + std::to_string(line) + " has a number that overflows a double ('" +
-                           std::string(tok) + "')",
+          return r.error = "BREP line " + std::to_string(line) +
+                           " has a number that overflows a double ('" + std::string(tok) + "')",
                  r;
       }
     }
@@ -305,17 +338,22 @@ PrescanResult scan_brep(std::string_view t, const PrescanOptions&) {
 
 std::string_view to_string(CadFormat f) {
   switch (f) {
-    case CadFormat::Step: return "step";
-    case CadFormat::Iges: return "iges";
-    case CadFormat::Brep: return "brep";
-    default: return "unknown";
+    case CadFormat::Step:
+      return "step";
+    case CadFormat::Iges:
+      return "iges";
+    case CadFormat::Brep:
+      return "brep";
+    default:
+      return "unknown";
   }
 }
 
 CadFormat format_from_extension(const std::string& path) {
   const auto dot = path.find_last_of('.');
   const auto slash = path.find_last_of('/');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return CadFormat::Unknown;
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+    return CadFormat::Unknown;
   const std::string ext = lower(path.substr(dot + 1));
   if (ext == "step" || ext == "stp" || ext == "p21") return CadFormat::Step;
   if (ext == "igs" || ext == "iges") return CadFormat::Iges;
@@ -326,7 +364,8 @@ CadFormat format_from_extension(const std::string& path) {
 CadFormat sniff_format(std::string_view head) {
   head = head.substr(0, std::min<std::size_t>(head.size(), 4096));
   const auto first = head.find_first_not_of(" \t\r\n");
-  if (first != std::string_view::npos && head.substr(first).rfind("ISO-10303-21", 0) == 0) return CadFormat::Step;
+  if (first != std::string_view::npos && head.substr(first).rfind("ISO-10303-21", 0) == 0)
+    return CadFormat::Step;
   if (head.find("CASCADE Topology V") != std::string_view::npos) return CadFormat::Brep;
   // IGES: a first line of (at least) 73 columns with a section letter in column 73.
   std::size_t e = head.find('\n');
@@ -340,9 +379,12 @@ CadFormat sniff_format(std::string_view head) {
 
 PrescanResult prescan_text(std::string_view text, CadFormat fmt, const PrescanOptions& opt) {
   switch (fmt) {
-    case CadFormat::Step: return scan_step(text, opt);
-    case CadFormat::Iges: return scan_iges(text, opt);
-    case CadFormat::Brep: return scan_brep(text, opt);
+    case CadFormat::Step:
+      return scan_step(text, opt);
+    case CadFormat::Iges:
+      return scan_iges(text, opt);
+    case CadFormat::Brep:
+      return scan_brep(text, opt);
     default: {
       PrescanResult r;
       r.error = "unknown format";
@@ -365,8 +407,10 @@ PrescanResult prescan_file(const std::string& path, const PrescanOptions& opt) {
   }
   const CadFormat fmt = sniff_format(text);
   if (fmt == CadFormat::Unknown) {
-    const bool binary = std::any_of(text.begin(), text.begin() + std::min<std::size_t>(text.size(), 4096),
-                                    [](unsigned char c) { return c == 0 || (c < 32 && c != '\n' && c != '\r' && c != '\t') || c >= 127; });
+    const bool binary = std::any_of(
+        text.begin(), text.begin() + std::min<std::size_t>(text.size(), 4096), [](unsigned char c) {
+          return c == 0 || (c < 32 && c != '\n' && c != '\r' && c != '\t') || c >= 127;
+        });
     r.error = std::string("not a CAD file") + (binary ? " (binary content)" : "") +
               ": neither a STEP header (ISO-10303-21;), an IGES start line (80 columns, "
               "section letter in column 73) nor an OpenCASCADE BREP header (CASCADE Topology)";

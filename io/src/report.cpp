@@ -3,15 +3,15 @@
 // histograms, (u,v) for meshes read from files) and formats the JSON.
 #include "uvmesh/io/report.h"
 
-#include "uvmesh/surface/mesher.h"
-
 #include <algorithm>
-#include <map>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <numeric>
 #include <unordered_map>
+
+#include "uvmesh/surface/mesher.h"
 
 namespace uvmesh::io {
 
@@ -166,7 +166,8 @@ nlohmann::json edge_length_json(const surface::EdgeLengthReport& r) {
           {"count", r.bin_count}};
 }
 
-std::vector<CheckData::SolidTopology> solid_topology(const SurfaceMesh& m, const geom::Model& model) {
+std::vector<CheckData::SolidTopology> solid_topology(const SurfaceMesh& m,
+                                                     const geom::Model& model) {
   std::vector<CheckData::SolidTopology> out;
   for (std::size_t s = 0; s < model.solids.size(); ++s) {
     CheckData::SolidTopology st;
@@ -184,11 +185,13 @@ std::vector<CheckData::SolidTopology> solid_topology(const SurfaceMesh& m, const
     std::map<std::pair<NodeId, NodeId>, int> count;
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
       const geom::Id f = t < m.triangle_face.size() ? m.triangle_face[t] : geom::kNone;
-      if (f < 0 || static_cast<std::size_t>(f) >= in.size() || !in[static_cast<std::size_t>(f)]) continue;
+      if (f < 0 || static_cast<std::size_t>(f) >= in.size() || !in[static_cast<std::size_t>(f)])
+        continue;
       ++st.triangles;
       const auto& tri = m.triangles[t];
       for (int i = 0; i < 3; ++i) {
-        const NodeId a = tri[static_cast<std::size_t>(i)], b = tri[static_cast<std::size_t>((i + 1) % 3)];
+        const NodeId a = tri[static_cast<std::size_t>(i)],
+                     b = tri[static_cast<std::size_t>((i + 1) % 3)];
         ++count[{std::min(a, b), std::max(a, b)}];
       }
     }
@@ -225,9 +228,11 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
       // Every pair is classified, not only the listed ones.
       const surface::IntersectionReport all =
           d.intersections->pairs.size() < d.intersections->intersecting_pairs
-              ? surface::find_self_intersections(m, static_cast<int>(d.intersections->intersecting_pairs), opt.threads)
+              ? surface::find_self_intersections(
+                    m, static_cast<int>(d.intersections->intersecting_pairs), opt.threads)
               : *d.intersections;
-      const std::vector<std::size_t> in_model = surface::pairs_intersecting_in_model(m, *model, all.pairs);
+      const std::vector<std::size_t> in_model =
+          surface::pairs_intersecting_in_model(m, *model, all.pairs);
       d.intersections_in_model = in_model.size();
       std::vector<char> proven(all.pairs.size(), 0);
       for (std::size_t k : in_model) proven[k] = 1;
@@ -248,17 +253,20 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
           if (s.closed)
             for (geom::Id f : s.faces) in_closed[static_cast<std::size_t>(f)] = 1;
         auto closed_face = [&](geom::Id f) {
-          return f >= 0 && static_cast<std::size_t>(f) < model->faces.size() && in_closed[static_cast<std::size_t>(f)];
+          return f >= 0 && static_cast<std::size_t>(f) < model->faces.size() &&
+                 in_closed[static_cast<std::size_t>(f)];
         };
         std::size_t n = 0, n_model = 0;
         for (std::size_t k = 0; k < all.pairs.size(); ++k)
-          if (closed_face(all.pairs[k].f0) && closed_face(all.pairs[k].f1)) ++n, n_model += proven[k];
+          if (closed_face(all.pairs[k].f0) && closed_face(all.pairs[k].f1))
+            ++n, n_model += proven[k];
         d.intersections_in_closed_solids = n;
         d.intersections_in_closed_solids_in_model = n_model;
       }
     } else {
       for (auto& s : d.solids) s.self_intersections = s.self_intersections_in_model = 0;
-      if (!d.solids.empty()) d.intersections_in_closed_solids = d.intersections_in_closed_solids_in_model = 0;
+      if (!d.solids.empty())
+        d.intersections_in_closed_solids = d.intersections_in_closed_solids_in_model = 0;
     }
   }
   // With a model, bad triangles across gaps narrower than the mesher's proximity floor
@@ -388,11 +396,15 @@ nlohmann::json report_json(const CheckData& d) {
     nlohmann::json so = nlohmann::json::array();
     std::size_t not_watertight = 0;
     for (const auto& s : d.solids) {
-      nlohmann::json one = {{"solid", s.solid},         {"closed", s.closed},
-                            {"triangles", s.triangles}, {"free_edges", s.free_edges},
-                            {"non_manifold_edges", s.non_manifold_edges}, {"faces", s.faces}};
+      nlohmann::json one = {{"solid", s.solid},
+                            {"closed", s.closed},
+                            {"triangles", s.triangles},
+                            {"free_edges", s.free_edges},
+                            {"non_manifold_edges", s.non_manifold_edges},
+                            {"faces", s.faces}};
       if (s.self_intersections) one["self_intersections"] = *s.self_intersections;
-      if (s.self_intersections_in_model) one["self_intersections_in_model"] = *s.self_intersections_in_model;
+      if (s.self_intersections_in_model)
+        one["self_intersections_in_model"] = *s.self_intersections_in_model;
       so.push_back(one);
       not_watertight += s.closed && (s.free_edges > 0 || s.non_manifold_edges > 0);
     }
@@ -408,7 +420,8 @@ nlohmann::json report_json(const CheckData& d) {
     if (d.intersections_in_model) topo["self_intersections_in_model"] = *d.intersections_in_model;
     if (d.intersections_in_closed_solids) {
       topo["self_intersections_in_closed_solids"] = *d.intersections_in_closed_solids;
-      topo["self_intersections_in_closed_solids_in_model"] = d.intersections_in_closed_solids_in_model.value_or(0);
+      topo["self_intersections_in_closed_solids_in_model"] =
+          d.intersections_in_closed_solids_in_model.value_or(0);
     }
   }
   j["topology"] = topo;

@@ -63,7 +63,9 @@ constexpr double kSegmentTolUlps = 64.0;
 // separates the two with a wide margin on both sides.
 constexpr double kAngleTol = 1e-6;
 
-const double* ptr(const Vec2& p) { return &p.x; }
+const double* ptr(const Vec2& p) {
+  return &p.x;
+}
 
 double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return pred::orient2d(ptr(a), ptr(b), ptr(c));
@@ -124,7 +126,8 @@ std::string pt(const Vec2& p) {
 
 std::string tri_str(TriId t, const std::array<VertId, 3>& v) {
   std::string s = "triangle ";
-  s += std::to_string(t) + " (" + std::to_string(v[0]) + "," + std::to_string(v[1]) + "," + std::to_string(v[2]) + ")";
+  s += std::to_string(t) + " (" + std::to_string(v[0]) + "," + std::to_string(v[1]) + "," +
+       std::to_string(v[2]) + ")";
   return s;
 }
 
@@ -174,10 +177,10 @@ void sort_bucket(EdgeEntry* first, EdgeEntry* last) {
 
 struct Query {
   enum Kind { Hole, Region, MissingInput } kind;
-  std::int32_t index;      // seed index or input point index
+  std::int32_t index;  // seed index or input point index
   Vec2 p;
-  TriId strict = kNone;    // first triangle containing p in its interior
-  TriId closed = kNone;    // first triangle containing p in its closure
+  TriId strict = kNone;  // first triangle containing p in its interior
+  TriId closed = kNone;  // first triangle containing p in its closure
 };
 
 }  // namespace
@@ -235,7 +238,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
 
   // ---- 2. triangles ----------------------------------------------------------------
   // valid: indices in range and distinct (usable for adjacency); ccw: also oriented.
-  std::vector<std::uint8_t> valid(static_cast<std::size_t>(nt), 0), ccw(static_cast<std::size_t>(nt), 0);
+  std::vector<std::uint8_t> valid(static_cast<std::size_t>(nt), 0),
+      ccw(static_cast<std::size_t>(nt), 0);
   bool all_ccw = true;
   for (TriId t = 0; t < nt; ++t) {
     const auto& v = T[t];
@@ -256,7 +260,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     } else {
       all_ccw = false;
       err.add(tri_str(t, v) + " is not counter-clockwise (" +
-              (o < 0 ? std::string("clockwise") : std::string("degenerate: its vertices are collinear")) +
+              (o < 0 ? std::string("clockwise")
+                     : std::string("degenerate: its vertices are collinear")) +
               ")");
     }
   }
@@ -297,7 +302,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
         entries[start[std::min(a, b) + 1]++] = {std::max(a, b), 3 * t + k};
       }
   for (std::int32_t e = 0; e < ne; ++e)
-    if (evalid[e]) entries[start[std::min(E[e].a, E[e].b) + 1]++] = {std::max(E[e].a, E[e].b), -1 - e};
+    if (evalid[e])
+      entries[start[std::min(E[e].a, E[e].b) + 1]++] = {std::max(E[e].a, E[e].b), -1 - e};
   // Now bucket lo is entries[start[lo], start[lo+1]).
 
   // canon[e]: the first constrained edge with the same two vertices as e (duplicates
@@ -361,20 +367,20 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
       if (forward(halves[0]) == forward(halves[1])) {
         manifold = false;
         on_boundary[lo] = on_boundary[hi] = 1;
-        err.add(edge_str(lo, hi) + " has inconsistent orientation: " + tri_str(t1, T[t1]) + " and " +
-                tri_str(t2, T[t2]) + " both use it in the same direction " +
+        err.add(edge_str(lo, hi) + " has inconsistent orientation: " + tri_str(t1, T[t1]) +
+                " and " + tri_str(t2, T[t2]) + " both use it in the same direction " +
                 (forward(halves[0]) ? edge_str(lo, hi) : edge_str(hi, lo)));
         continue;
       }
       if (constrained >= 0) continue;
       if (have_region && m.triangle_region[t1] != m.triangle_region[t2])
-        err.add(edge_str(lo, hi) + " is not constrained but separates regions: " + tri_str(t1, T[t1]) +
-                " is in region " + std::to_string(m.triangle_region[t1]) + ", " + tri_str(t2, T[t2]) +
-                " in region " + std::to_string(m.triangle_region[t2]));
+        err.add(edge_str(lo, hi) + " is not constrained but separates regions: " +
+                tri_str(t1, T[t1]) + " is in region " + std::to_string(m.triangle_region[t1]) +
+                ", " + tri_str(t2, T[t2]) + " in region " + std::to_string(m.triangle_region[t2]));
       if (have_attr && !(m.triangle_attribute[t1] == m.triangle_attribute[t2]))
-        err.add(edge_str(lo, hi) + " is not constrained but separates attributes: " + tri_str(t1, T[t1]) +
-                " has attribute " + fmt(m.triangle_attribute[t1]) + ", " + tri_str(t2, T[t2]) + " has " +
-                fmt(m.triangle_attribute[t2]));
+        err.add(edge_str(lo, hi) + " is not constrained but separates attributes: " +
+                tri_str(t1, T[t1]) + " has attribute " + fmt(m.triangle_attribute[t1]) + ", " +
+                tri_str(t2, T[t2]) + " has " + fmt(m.triangle_attribute[t2]));
       if (opt.delaunay && ccw[t1] && ccw[t2]) {
         const auto& v1 = T[t1];
         const VertId d = T[t2][(halves[1] % 3 + 2) % 3];  // vertex of t2 opposite the shared edge
@@ -400,7 +406,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
         // CCW (exact), so each angle is in (0, pi) even when round-off flips the sign of
         // a nearly zero cross product.
         double ux = b.x - a.x, uy = b.y - a.y, wx = c.x - a.x, wy = c.y - a.y;
-        const double su = std::max(std::abs(ux), std::abs(uy)), sw = std::max(std::abs(wx), std::abs(wy));
+        const double su = std::max(std::abs(ux), std::abs(uy)),
+                     sw = std::max(std::abs(wx), std::abs(wy));
         ux /= su, uy /= su, wx /= sw, wy /= sw;
         angle[v[k]] += std::atan2(std::abs(ux * wy - uy * wx), ux * wx + uy * wy);
         used[v[k]] = 1;
@@ -477,14 +484,15 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     // This catches a chain bent away from its segment (a misplaced Steiner vertex) when
     // the segment itself is accepted as leaving the domain (below).
     std::vector<std::uint8_t> on_chain(static_cast<std::size_t>(ne), 0);
-    std::vector<std::int64_t> visit(static_cast<std::size_t>(nv), -1);  // segment that reached a vertex
+    std::vector<std::int64_t> visit(static_cast<std::size_t>(nv),
+                                    -1);  // segment that reached a vertex
     std::vector<VertId> stack;
     std::vector<VertId> dead_ends;
     std::vector<std::int32_t> vstart, vtris;  // vertex -> 3 t + k, built on first need
     for (std::size_t s = 0; s < in.segments.size() && !err.full(); ++s) {
       const auto& sg = in.segments[s];
-      const std::string sname = "segment " + std::to_string(s) + " (input " + std::to_string(sg.a) + "-" +
-                                std::to_string(sg.b) + ")";
+      const std::string sname = "segment " + std::to_string(s) + " (input " + std::to_string(sg.a) +
+                                "-" + std::to_string(sg.b) + ")";
       if (sg.a < 0 || sg.b < 0 || static_cast<std::size_t>(sg.a) >= np ||
           static_cast<std::size_t>(sg.b) >= np) {
         err.add(sname + " references a point out of range [0," + std::to_string(np) + ")");
@@ -578,8 +586,9 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
         }
       }
       if (!leaves)
-        err.add(sname + " is not covered by constrained edges: the chain from vertex " + std::to_string(va) +
-                " toward " + (vb == kNone ? "input point " + pt(B) : "vertex " + std::to_string(vb)) +
+        err.add(sname + " is not covered by constrained edges: the chain from vertex " +
+                std::to_string(va) + " toward " +
+                (vb == kNone ? "input point " + pt(B) : "vertex " + std::to_string(vb)) +
                 " stops at vertex " + std::to_string(furthest) + " " + pt(V[furthest]) +
                 ", where the segment goes on into the domain");
     }
@@ -592,7 +601,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     for (std::int32_t e = 0; e < ne && !err.full(); ++e) {
       if (!evalid[e] || canon[e] != e || on_chain[e]) continue;
       for (const auto& sg : in.segments) {
-        if (sg.a < 0 || sg.b < 0 || static_cast<std::size_t>(sg.a) >= np || static_cast<std::size_t>(sg.b) >= np)
+        if (sg.a < 0 || sg.b < 0 || static_cast<std::size_t>(sg.a) >= np ||
+            static_cast<std::size_t>(sg.b) >= np)
           continue;
         const Vec2 &A = in.points[sg.a], &B = in.points[sg.b];
         if (A.x == B.x && A.y == B.y) continue;
@@ -605,8 +615,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     }
     for (std::int32_t e = 0; e < ne && !err.full(); ++e)
       if (evalid[e] && canon[e] == e && !on_chain[e])
-        err.add("constrained edge " + std::to_string(e) + " " + edge_str(E[e].a, E[e].b) + " " + pt(V[E[e].a]) + "-" +
-                pt(V[E[e].b]) + " is not on the chain of any input segment");
+        err.add("constrained edge " + std::to_string(e) + " " + edge_str(E[e].a, E[e].b) + " " +
+                pt(V[E[e].a]) + "-" + pt(V[E[e].b]) + " is not on the chain of any input segment");
   }
 
   // ---- 7. point queries ----------------------------------------------------------------
@@ -626,7 +636,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
       if (m.input_vertex[i] != kNone) continue;
       if (hull_domain)
         err.add("input point " + std::to_string(i) + " " + pt(in.points[i]) +
-                " has no mesh vertex, but without segments the domain is the convex hull of all input points");
+                " has no mesh vertex, but without segments the domain is the convex hull of all "
+                "input points");
       else
         qs.push_back({Query::MissingInput, static_cast<std::int32_t>(i), in.points[i]});
     }
@@ -638,19 +649,27 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     // Uniform grid over the query points, ~1 query per cell; every oriented triangle is
     // tested against the queries in the cells its bounding box overlaps.
     double x0 = qs[0].p.x, x1 = x0, y0 = qs[0].p.y, y1 = y0;
-    for (const auto& q : qs) x0 = std::min(x0, q.p.x), x1 = std::max(x1, q.p.x), y0 = std::min(y0, q.p.y), y1 = std::max(y1, q.p.y);
-    const int G = std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(qs.size())))), 1, 1024);
+    for (const auto& q : qs)
+      x0 = std::min(x0, q.p.x), x1 = std::max(x1, q.p.x), y0 = std::min(y0, q.p.y),
+      y1 = std::max(y1, q.p.y);
+    const int G =
+        std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(qs.size())))), 1, 1024);
     const double dx = x1 > x0 ? (x1 - x0) / G : 1.0, dy = y1 > y0 ? (y1 - y0) / G : 1.0;
     // floor((x - x0) / dx) is monotone in x, so a triangle's cell range covers every cell
     // of a query inside its bounding box.
-    auto cx = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - x0) / dx)), 0, G - 1); };
-    auto cy = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - y0) / dy)), 0, G - 1); };
+    auto cx = [&](double x) {
+      return std::clamp(static_cast<int>(std::floor((x - x0) / dx)), 0, G - 1);
+    };
+    auto cy = [&](double y) {
+      return std::clamp(static_cast<int>(std::floor((y - y0) / dy)), 0, G - 1);
+    };
     std::vector<std::int32_t> cstart(static_cast<std::size_t>(G) * G + 1, 0), cq(qs.size());
     for (const auto& q : qs) ++cstart[cy(q.p.y) * G + cx(q.p.x) + 1];
     for (std::size_t i = 1; i < cstart.size(); ++i) cstart[i] += cstart[i - 1];
     {
       std::vector<std::int32_t> fill(cstart.begin(), cstart.end() - 1);
-      for (std::size_t i = 0; i < qs.size(); ++i) cq[fill[cy(qs[i].p.y) * G + cx(qs[i].p.x)]++] = static_cast<std::int32_t>(i);
+      for (std::size_t i = 0; i < qs.size(); ++i)
+        cq[fill[cy(qs[i].p.y) * G + cx(qs[i].p.x)]++] = static_cast<std::int32_t>(i);
     }
     for (TriId t = 0; t < nt; ++t) {
       if (!ccw[t]) continue;
@@ -684,7 +703,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
       switch (q.kind) {
         case Query::Hole:
           if (t != kNone)
-            err.add("hole seed " + std::to_string(q.index) + " " + pt(q.p) + " lies in " + tri_str(t, T[t]));
+            err.add("hole seed " + std::to_string(q.index) + " " + pt(q.p) + " lies in " +
+                    tri_str(t, T[t]));
           break;
         case Query::MissingInput:
           if (t != kNone)
@@ -693,7 +713,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
           break;
         case Query::Region: {
           if (t == kNone) {
-            err.add("region seed " + std::to_string(q.index) + " " + pt(q.p) + " lies in no triangle");
+            err.add("region seed " + std::to_string(q.index) + " " + pt(q.p) +
+                    " lies in no triangle");
             break;
           }
           if (!have_attr) break;
@@ -701,8 +722,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
           const auto& cand = seeds_of_region[have_region ? m.triangle_region[t] : t];
           if (std::find(cand.begin(), cand.end(), got) == cand.end())
             err.add("region seed " + std::to_string(q.index) + " " + pt(q.p) + " with attribute " +
-                    fmt(in.regions[q.index].attribute) + " lies in " + tri_str(t, T[t]) + " whose attribute is " +
-                    fmt(got));
+                    fmt(in.regions[q.index].attribute) + " lies in " + tri_str(t, T[t]) +
+                    " whose attribute is " + fmt(got));
           break;
         }
       }

@@ -40,7 +40,8 @@ inline void advise_huge_pages([[maybe_unused]] const void* p, [[maybe_unused]] s
   const auto a = reinterpret_cast<std::uintptr_t>(p);
   const std::uintptr_t lo = a & ~(kPage - 1);
   const std::uintptr_t hi = (a + bytes + kPage - 1) & ~(kPage - 1);
-  (void)madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);  // advice: failure is harmless
+  (void)madvise(reinterpret_cast<void*>(lo), hi - lo,
+                MADV_HUGEPAGE);  // advice: failure is harmless
   const std::uintptr_t first = lo & ~(kHuge - 1);
   if (first == lo && first + kHuge <= hi) {
     constexpr int kCollapse = 25;  // MADV_COLLAPSE (Linux 6.1); EINVAL on older kernels: harmless

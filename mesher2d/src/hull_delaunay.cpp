@@ -92,7 +92,8 @@ void brio_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec) {
     xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x);
     ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
   }
-  const double sx = 65535.0 / std::max(xmax - xmin, 1e-300), sy = 65535.0 / std::max(ymax - ymin, 1e-300);
+  const double sx = 65535.0 / std::max(xmax - xmin, 1e-300),
+               sy = 65535.0 / std::max(ymax - ymin, 1e-300);
   auto q = [](double v) {
     return static_cast<std::uint32_t>(!(v > 0) ? 0.0 : v < 65535.0 ? v : 65535.0);
   };
@@ -215,7 +216,8 @@ HullDelaunay::Status HullDelaunay::build(const std::vector<Vec2>& in) {
 
 bool HullDelaunay::conflict_slow(const Tri& r, Vec2 p) const {
   const Vec2* const P = pts.data();
-  if (!ghost(r)) return pred::detail::incircle_slow(&P[r.v[0]].x, &P[r.v[1]].x, &P[r.v[2]].x, &p.x) > 0;
+  if (!ghost(r))
+    return pred::detail::incircle_slow(&P[r.v[0]].x, &P[r.v[1]].x, &P[r.v[2]].x, &p.x) > 0;
   // Ghost (a, b, G): the hull edge a -> b has the outside on its left. Its circumdisk is
   // the open half-plane on that side plus the open edge (a point on the edge splits it).
   const int g = ghost_corner(r);
@@ -298,7 +300,8 @@ bool HullDelaunay::insert(VertId pv) {
   auto conflict = [&](const Tri& r) {
     // The inline filter decides almost always; a ghost (NaN coordinates) or a nearly
     // cocircular case falls through to conflict_slow.
-    const double det = pred::detail::incircle_filter(&P[r.v[0]].x, &P[r.v[1]].x, &P[r.v[2]].x, &p.x);
+    const double det =
+        pred::detail::incircle_filter(&P[r.v[0]].x, &P[r.v[1]].x, &P[r.v[2]].x, &p.x);
     if (det != 0) [[likely]]
       return det > 0;
     return conflict_slow(r, p);

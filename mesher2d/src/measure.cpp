@@ -39,7 +39,9 @@ Shape shape(Vec2 a, Vec2 b, Vec2 c) {
   s.cmax = std::max({ca_, cb_, cc_});
   return s;
 }
-double deg(double cosine) { return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / kPi; }
+double deg(double cosine) {
+  return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / kPi;
+}
 }  // namespace
 
 double triangle_quality(Vec2 a, Vec2 b, Vec2 c, const Metric2& m) {
@@ -54,14 +56,17 @@ Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<
 
 namespace detail {
 
-Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<std::array<VertId, 3>>& tris,
-                           const SizeSpec& size, std::vector<std::uint64_t>* known_edges) {
+Quality measure_with_edges(const std::vector<Vec2>& vertices,
+                           const std::vector<std::array<VertId, 3>>& tris, const SizeSpec& size,
+                           std::vector<std::uint64_t>* known_edges) {
   Quality out;
   if (tris.empty()) return out;
   const bool has_metric = !(size.kind == SizeSpec::Kind::Uniform && size.h <= 0);
   std::vector<Metric2> vm;
   // A uniform field has one metric: no per-vertex copy (half a million on a 1e6 mesh).
-  const Metric2 m_uniform = size.kind == SizeSpec::Kind::Uniform && has_metric ? detail::metric_at(size, 0, 0) : Metric2{};
+  const Metric2 m_uniform = size.kind == SizeSpec::Kind::Uniform && has_metric
+                                ? detail::metric_at(size, 0, 0)
+                                : Metric2{};
   if (has_metric && size.kind != SizeSpec::Kind::Uniform) {
     vm.resize(vertices.size());
     for (std::size_t i = 0; i < vertices.size(); ++i)
@@ -149,7 +154,8 @@ Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<
     own.reserve(tris.size() * 3);
     for (const auto& t : tris)
       for (int i = 0; i < 3; ++i) {
-        std::uint64_t a = static_cast<std::uint32_t>(t[i]), b = static_cast<std::uint32_t>(t[(i + 1) % 3]);
+        std::uint64_t a = static_cast<std::uint32_t>(t[i]),
+                      b = static_cast<std::uint32_t>(t[(i + 1) % 3]);
         if (a > b) std::swap(a, b);
         own.push_back(a << 32 | b);
       }
@@ -165,11 +171,14 @@ Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<
     const Vec2 pa = vertices[a], pb = vertices[b];
     const Vec2 d{pb.x - pa.x, pb.y - pa.y};
     // (A uniform field: one length, the rule is exact.)
-    const double l = size.kind == SizeSpec::Kind::Uniform
-                         ? detail::length(m_uniform, d)
-                         : (detail::length(vm[a], d) +
-                            4 * detail::length(detail::metric_at(size, 0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y)), d) +
-                            detail::length(vm[b], d)) / 6;
+    const double l =
+        size.kind == SizeSpec::Kind::Uniform
+            ? detail::length(m_uniform, d)
+            : (detail::length(vm[a], d) +
+               4 * detail::length(detail::metric_at(size, 0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y)),
+                                  d) +
+               detail::length(vm[b], d)) /
+                  6;
     unit += (l >= 0.7071067811865476 && l <= 1.4142135623730951);
     lsum += l;
     out.edge_len_min = std::min(out.edge_len_min, l);

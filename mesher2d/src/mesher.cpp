@@ -2,8 +2,8 @@
 // field (§7.5, §7.6.1). Stages and their sections are listed in mesher2d.h.
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -149,7 +149,8 @@ class Mesher {
     stage("output", t0);
     if (field_error_) return;
     if (opt_.measure) {
-      res_.stats.quality = detail::measure_with_edges(res_.mesh.vertices, res_.mesh.triangles, measure_spec(), &edges_);
+      res_.stats.quality = detail::measure_with_edges(res_.mesh.vertices, res_.mesh.triangles,
+                                                      measure_spec(), &edges_);
       stage("measure", t0);
     }
     if (opt_.check) {
@@ -210,7 +211,8 @@ class Mesher {
     const std::size_t n = in_.points.size();
     if (n == 0) return fail(StatusCode::InvalidInput, "empty PSLG: no points");
     if (!in_.point_markers.empty() && in_.point_markers.size() != n)
-      return fail(StatusCode::InvalidInput, "point_markers has " + std::to_string(in_.point_markers.size()) +
+      return fail(StatusCode::InvalidInput, "point_markers has " +
+                                                std::to_string(in_.point_markers.size()) +
                                                 " entries for " + std::to_string(n) + " points");
     auto bad = [](Vec2 p) {
       return !std::isfinite(p.x) || !std::isfinite(p.y) || std::abs(p.x) > kMaxCoord ||
@@ -233,24 +235,30 @@ class Mesher {
     }
     for (std::size_t i = 0; i < in_.holes.size(); ++i)
       if (bad(in_.holes[i]))
-        return fail(StatusCode::InvalidInput, "hole " + std::to_string(i) + " has a non-finite coordinate",
+        return fail(StatusCode::InvalidInput,
+                    "hole " + std::to_string(i) + " has a non-finite coordinate",
                     {static_cast<std::int64_t>(i)});
     for (std::size_t i = 0; i < in_.regions.size(); ++i)
       if (bad(in_.regions[i].seed) || !std::isfinite(in_.regions[i].attribute))
-        return fail(StatusCode::InvalidInput, "region " + std::to_string(i) + " has a non-finite value",
+        return fail(StatusCode::InvalidInput,
+                    "region " + std::to_string(i) + " has a non-finite value",
                     {static_cast<std::int64_t>(i)});
     switch (size_.kind) {
       case SizeSpec::Kind::Uniform:
-        if (!std::isfinite(size_.h)) return fail(StatusCode::InvalidInput, "uniform size is not finite");
+        if (!std::isfinite(size_.h))
+          return fail(StatusCode::InvalidInput, "uniform size is not finite");
         break;
       case SizeSpec::Kind::Scalar:
-        if (!size_.size) return fail(StatusCode::InvalidInput, "scalar size field without a function");
+        if (!size_.size)
+          return fail(StatusCode::InvalidInput, "scalar size field without a function");
         break;
       case SizeSpec::Kind::Metric:
-        if (!size_.metric) return fail(StatusCode::InvalidInput, "metric size field without a function");
+        if (!size_.metric)
+          return fail(StatusCode::InvalidInput, "metric size field without a function");
         break;
     }
-    if (!(opt_.max_anisotropy >= 1)) return fail(StatusCode::InvalidInput, "max_anisotropy must be >= 1");
+    if (!(opt_.max_anisotropy >= 1))
+      return fail(StatusCode::InvalidInput, "max_anisotropy must be >= 1");
     return true;
   }
 
@@ -291,9 +299,9 @@ class Mesher {
     if (dup > 0) {
       for (std::size_t i = 0; i < n; ++i)
         if (rep_[i] != static_cast<std::int32_t>(i)) {
-          res_.status.warnings.push_back(std::to_string(dup) + " duplicate point(s) merged (first: point " +
-                                         std::to_string(i) + " duplicates point " +
-                                         std::to_string(rep_[i]) + ")");
+          res_.status.warnings.push_back(
+              std::to_string(dup) + " duplicate point(s) merged (first: point " +
+              std::to_string(i) + " duplicates point " + std::to_string(rep_[i]) + ")");
           break;
         }
     }
@@ -309,15 +317,19 @@ class Mesher {
         ++degenerate;
         continue;
       }
-      const std::uint64_t key = static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
+      const std::uint64_t key = static_cast<std::uint64_t>(std::min(a, b)) << 32 |
+                                static_cast<std::uint32_t>(std::max(a, b));
       if (!seen.insert(key).second) {
         ++repeated;
         continue;
       }
       segs_.push_back({a, b, s.marker, static_cast<std::int32_t>(i)});
     }
-    if (degenerate) res_.status.warnings.push_back(std::to_string(degenerate) + " zero-length segment(s) ignored");
-    if (repeated) res_.status.warnings.push_back(std::to_string(repeated) + " repeated segment(s) ignored");
+    if (degenerate)
+      res_.status.warnings.push_back(std::to_string(degenerate) +
+                                     " zero-length segment(s) ignored");
+    if (repeated)
+      res_.status.warnings.push_back(std::to_string(repeated) + " repeated segment(s) ignored");
     // Size for "uniform, h <= 0": the mean input segment length (the chapter's step size
     // from the boundary, §7.3.5 preliminary requirements).
     h_uniform_ = size_.h;
@@ -357,8 +369,8 @@ class Mesher {
     std::vector<double> ts, len, cum, nts, nl;
   };
   static constexpr double kPiece = 0.25;
-  double sample_edge(Vec2 a, Vec2 b, const Metric2& ma, const Metric2& mb, EdgeSampler& es, double ra = 1,
-                     double rb = 1) {
+  double sample_edge(Vec2 a, Vec2 b, const Metric2& ma, const Metric2& mb, EdgeSampler& es,
+                     double ra = 1, double rb = 1) {
     const Vec2 d{b.x - a.x, b.y - a.y};
     const bool scaled = ra < 1 || rb < 1;
     es.ts.assign({0.0, 1.0});
@@ -396,7 +408,9 @@ class Mesher {
         bool split = false;
         for (std::size_t k = 0; k + 1 < es.ts.size(); ++k) {
           const double t0 = es.ts[k], t1 = es.ts[k + 1];
-          const double piece = (t1 - t0) * 0.5 * (es.len[k] / ratio_at(ra, rb, t0, lu) + es.len[k + 1] / ratio_at(ra, rb, t1, lu));
+          const double piece =
+              (t1 - t0) * 0.5 *
+              (es.len[k] / ratio_at(ra, rb, t0, lu) + es.len[k + 1] / ratio_at(ra, rb, t1, lu));
           if (piece > kPiece && es.nts.size() < 1'000'000) {
             es.nts.push_back(0.5 * (t0 + t1));
             es.nl.push_back(0.5 * (es.len[k] + es.len[k + 1]));
@@ -475,7 +489,8 @@ class Mesher {
       // Enforce the pieces now, so that the next segments' split points see them.
       work.clear();
       for (std::size_t k = chain.size() - 1; k-- > 0;)
-        if (chain[k] != chain[k + 1]) work.push_back(add_seg({chain[k], chain[k + 1], s.marker, s.input}));
+        if (chain[k] != chain[k + 1])
+          work.push_back(add_seg({chain[k], chain[k + 1], s.marker, s.input}));
       if (!enforce_work(work, /*split_crossings=*/true)) return false;
     }
     return true;
@@ -502,7 +517,8 @@ class Mesher {
     // Batch insertion in Hilbert order.
     std::vector<std::pair<std::uint32_t, VertId>> order;
     order.reserve(ntot);
-    const double sx = 65535.0 / std::max(xmax - xmin, 1e-300), sy = 65535.0 / std::max(ymax - ymin, 1e-300);
+    const double sx = 65535.0 / std::max(xmax - xmin, 1e-300),
+                 sy = 65535.0 / std::max(ymax - ymin, 1e-300);
     for (std::size_t i = 0; i < ntot; ++i) {
       if (i < n && rep_[i] != static_cast<std::int32_t>(i)) continue;
       const Vec2 p = point(static_cast<VertId>(i));
@@ -526,7 +542,8 @@ class Mesher {
         continue;
       }
       if (r.status != InsertStatus::Inserted)
-        return fail(StatusCode::InternalError, "could not insert point " + std::to_string(i) + " " + fmt_pt(point(i)));
+        return fail(StatusCode::InternalError,
+                    "could not insert point " + std::to_string(i) + " " + fmt_pt(point(i)));
       vid_[i] = v;
       fixed_.push_back(1);
       vmark_.push_back(in_.point_markers.empty() ? 0 : in_.point_markers[i]);
@@ -561,7 +578,8 @@ class Mesher {
       return;
     }
     if (st != detail::HullDelaunay::Status::Ok) {
-      fail(StatusCode::InternalError, "Delaunay triangulation of the convex hull failed (kernel bug guard)");
+      fail(StatusCode::InternalError,
+           "Delaunay triangulation of the convex hull failed (kernel bug guard)");
       return;
     }
     stage("delaunay", t0);
@@ -616,7 +634,8 @@ class Mesher {
         M.vertices[w] = dh.pts[v];
       }
       if (compact) M.input_vertex[dh.src[v]] = w;
-      if (!in_.point_markers.empty()) M.vertex_markers[w] = in_.point_markers[compact ? msrc[v] : dh.src[v]];
+      if (!in_.point_markers.empty())
+        M.vertex_markers[w] = in_.point_markers[compact ? msrc[v] : dh.src[v]];
       ++w;
     }
     if (compact) {
@@ -628,8 +647,9 @@ class Mesher {
       }
       const auto dup = static_cast<std::int64_t>(dh.dups.size());
       res_.stats.duplicates_merged = dup;
-      res_.status.warnings.push_back(std::to_string(dup) + " duplicate point(s) merged (first: point " +
-                                     std::to_string(dup_first) + " duplicates point " + std::to_string(dup_of) + ")");
+      res_.status.warnings.push_back(
+          std::to_string(dup) + " duplicate point(s) merged (first: point " +
+          std::to_string(dup_first) + " duplicates point " + std::to_string(dup_of) + ")");
     } else {
       // Every vertex is output as it is: the kernel's coordinate array, without G.
       M.vertices = std::move(dh.pts);
@@ -682,7 +702,8 @@ class Mesher {
       work.pop_back();
       SegRec s = segs_[sid];
       if (!s.alive || s.a == s.b) continue;
-      if (--budget < 0) return fail(StatusCode::InternalError, "boundary enforcement did not converge");
+      if (--budget < 0)
+        return fail(StatusCode::InternalError, "boundary enforcement did not converge");
       if (overlaps_enforced(s, sid)) {
         // Overlapping collinear segments, once split at each other's end points (the
         // ThroughVertex case below), give the same piece twice: it is kept once, as
@@ -705,7 +726,8 @@ class Mesher {
         continue;
       }
       if (r.crossing_seg == kNone)
-        return fail(StatusCode::InternalError, "boundary enforcement failed on segment " + seg_name(s));
+        return fail(StatusCode::InternalError,
+                    "boundary enforcement failed on segment " + seg_name(s));
       const SegRec o = segs_[r.crossing_seg];
       if (!opt_.split_crossing_segments && !split_crossings)
         return fail(StatusCode::CrossingSegments,
@@ -742,8 +764,9 @@ class Mesher {
                     {s.input, o.input});
       }
       ++res_.stats.crossings_split;
-      for (const SegRec& ns : {SegRec{o.a, xv, o.marker, o.input}, SegRec{xv, o.b, o.marker, o.input},
-                               SegRec{xv, s.b, s.marker, s.input}, SegRec{s.a, xv, s.marker, s.input}})
+      for (const SegRec& ns :
+           {SegRec{o.a, xv, o.marker, o.input}, SegRec{xv, o.b, o.marker, o.input},
+            SegRec{xv, s.b, s.marker, s.input}, SegRec{s.a, xv, s.marker, s.input}})
         if (ns.a != ns.b) work.push_back(add_seg(ns));
     }
     return true;
@@ -766,7 +789,8 @@ class Mesher {
   std::string seg_name(const SegRec& s) const {
     if (s.input < 0) return "convex hull edge";
     const auto& o = in_.segments[s.input];
-    return std::to_string(s.input) + " (points " + std::to_string(o.a) + "-" + std::to_string(o.b) + ")";
+    return std::to_string(s.input) + " (points " + std::to_string(o.a) + "-" + std::to_string(o.b) +
+           ")";
   }
 
   bool add_hull() {
@@ -788,7 +812,9 @@ class Mesher {
       while (k >= t && pred::orient2d(&P[h[k - 2]].x, &P[h[k - 1]].x, &P[v[i]].x) <= 0) --k;
       h[k++] = v[i];
     }
-    if (k < 4) return fail(StatusCode::InvalidInput, "all points are collinear: there is no triangle to make");
+    if (k < 4)
+      return fail(StatusCode::InvalidInput,
+                  "all points are collinear: there is no triangle to make");
     for (std::size_t i = 0; i + 1 < k; ++i) segs_.push_back({h[i], h[i + 1], 1, -1});
     return true;
   }
@@ -856,7 +882,8 @@ class Mesher {
     for (std::size_t i = 0; i < in_.regions.size(); ++i) {
       const TriId t = tri_.locate(in_.regions[i].seed, tri_.vtri[4 < tri_.num_verts() ? 4 : 0]);
       if (t == kNone || removed_[comp[t]]) {
-        res_.status.warnings.push_back("region " + std::to_string(i) + " seed " + fmt_pt(in_.regions[i].seed) +
+        res_.status.warnings.push_back("region " + std::to_string(i) + " seed " +
+                                       fmt_pt(in_.regions[i].seed) +
                                        " lies outside the domain and was ignored");
         continue;
       }
@@ -872,9 +899,10 @@ class Mesher {
       // Removed by the orientation vote alone (no hole did it): the loops run the
       // wrong way round, or cross themselves so that no region is on their left.
       if (last_hole_ < 0)
-        return fail(StatusCode::OpenBoundary,
-                    "no region lies to the left of its boundary segments (domain_from_orientation): "
-                    "the loops are clockwise or cross themselves");
+        return fail(
+            StatusCode::OpenBoundary,
+            "no region lies to the left of its boundary segments (domain_from_orientation): "
+            "the loops are clockwise or cross themselves");
       return fail(StatusCode::OpenBoundary,
                   "hole " + std::to_string(last_hole_) + " at " + fmt_pt(in_.holes[last_hole_]) +
                       " removes the whole domain: the boundary around it is open",
@@ -908,24 +936,30 @@ class Mesher {
     for (TriId t = 0; t < nt; ++t) {
       if (!in_domain(t)) continue;
       {
-        const Vec2 a = tri_.pts[tri_.tv[3 * t]], b = tri_.pts[tri_.tv[3 * t + 1]], c = tri_.pts[tri_.tv[3 * t + 2]];
+        const Vec2 a = tri_.pts[tri_.tv[3 * t]], b = tri_.pts[tri_.tv[3 * t + 1]],
+                   c = tri_.pts[tri_.tv[3 * t + 2]];
         area2 += (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
       }
       for (int i = 0; i < 3; ++i) {
         const Vec2 p = tri_.pts[tri_.tv[3 * t + i]];
-        xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x), ymin = std::min(ymin, p.y), ymax = std::max(ymax, p.y);
+        xmin = std::min(xmin, p.x), xmax = std::max(xmax, p.x), ymin = std::min(ymin, p.y),
+        ymax = std::max(ymax, p.y);
       }
     }
     if (!(xmax > xmin) || !(ymax > ymin)) return;
     const double h = h_uniform_, dy = 0.8660254037844386 * h;
-    const auto nx = static_cast<std::int64_t>((xmax - xmin) / h) + 2, ny = static_cast<std::int64_t>((ymax - ymin) / dy) + 2;
+    const auto nx = static_cast<std::int64_t>((xmax - xmin) / h) + 2,
+               ny = static_cast<std::int64_t>((ymax - ymin) / dy) + 2;
     // A domain filling little of its bounding box (a thin diagonal strip) would make the
     // scan mostly point location outside it: saturation alone does that case.
-    if (nx * ny > opt_.max_vertices || static_cast<double>(nx * ny) * h * dy > 8 * (0.5 * area2) + 64 * h * h) return;
+    if (nx * ny > opt_.max_vertices ||
+        static_cast<double>(nx * ny) * h * dy > 8 * (0.5 * area2) + 64 * h * h)
+      return;
     {
       // Room for the points to come (about the area over a lattice cell), so that the
       // arrays do not grow by reallocation while they are inserted.
-      const auto nv = static_cast<std::size_t>(tri_.num_verts()) + static_cast<std::size_t>(0.55 * area2 / (h * dy)) + 1024;
+      const auto nv = static_cast<std::size_t>(tri_.num_verts()) +
+                      static_cast<std::size_t>(0.55 * area2 / (h * dy)) + 1024;
       // Huge pages where the kernel allows them (huge_pages.h: fewer TLB misses and page faults).
       detail::reserve_huge(tri_.pts, nv), detail::reserve_huge(tri_.vtri, nv);
       detail::reserve_huge(tri_.tv, 6 * nv), detail::reserve_huge(tri_.opp, 6 * nv);
@@ -1031,7 +1065,8 @@ class Mesher {
     std::vector<std::uint64_t> order;
     {
       std::vector<Vec2> lat(static_cast<std::size_t>(nx * ny));
-      for (std::int64_t k = 0; k < nx * ny; ++k) lat[static_cast<std::size_t>(k)] = lattice_point(k);
+      for (std::int64_t k = 0; k < nx * ny; ++k)
+        lat[static_cast<std::size_t>(k)] = lattice_point(k);
       detail::brio_order(lat, order);
     }
     std::size_t since_check = 0;
@@ -1063,7 +1098,9 @@ class Mesher {
           if (sg == kNone || segs_[sg].marker < 0) continue;
           const VertId a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
           const double l = edge_length(a, b);
-          if (l < 1) rs_[a] = std::min(rs_[a], std::max(l, 1e-6)), rs_[b] = std::min(rs_[b], std::max(l, 1e-6));
+          if (l < 1)
+            rs_[a] = std::min(rs_[a], std::max(l, 1e-6)),
+            rs_[b] = std::min(rs_[b], std::max(l, 1e-6));
         }
       }
       for (std::size_t v = 4; v < nv; ++v)
@@ -1091,17 +1128,18 @@ class Mesher {
     // anisotropic cavity refused (not star-shaped: not monotone, a later wave could take
     // it) and the walk's random tie-breaks, which see fewer candidates; measured on
     // surface faces: the same counts and measures, a few coordinates differing in their
-    // last bits (the bracket, gmsh_problem_sphere), byte-identical elsewhere. Uniform field: the full
-    // scan took a third of the field-point time after the lattice (three passes over a
-    // million triangles to insert a few thousand points). Varying field under a boundary
-    // gradation (every surface face), where the analysed-edge set does not apply: the
-    // later waves sampled every edge again, 40x the first wave's sample_edge calls on
-    // kicad_tantalum_c's two large faces, for a few thousand insertions.
+    // last bits (the bracket, gmsh_problem_sphere), byte-identical elsewhere. Uniform field: the
+    // full scan took a third of the field-point time after the lattice (three passes over a million
+    // triangles to insert a few thousand points). Varying field under a boundary gradation (every
+    // surface face), where the analysed-edge set does not apply: the later waves sampled every edge
+    // again, 40x the first wave's sample_edge calls on kicad_tantalum_c's two large faces, for a
+    // few thousand insertions.
     std::vector<VertId> born;
     std::vector<TriId> scan;
     const bool use_analysed = !from_boundary && size_.kind != SizeSpec::Kind::Uniform;
     auto edge_key = [](VertId a, VertId b) {
-      return static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint32_t>(std::max(a, b));
+      return static_cast<std::uint64_t>(std::min(a, b)) << 32 |
+             static_cast<std::uint32_t>(std::max(a, b));
     };
     for (int wave = 0; wave < kMaxWaves && !field_error_; ++wave) {
       cands.clear();
@@ -1159,7 +1197,8 @@ class Mesher {
             // Squared length first: after the lattice nearly every edge is short, and
             // a scan is one pass over all the triangles per wave.
             const Metric2& mu = m_uniform_;
-            if (!(mu.m11 * d.x * d.x + 2 * mu.m12 * d.x * d.y + mu.m22 * d.y * d.y > 1.99)) continue;
+            if (!(mu.m11 * d.x * d.x + 2 * mu.m12 * d.x * d.y + mu.m22 * d.y * d.y > 1.99))
+              continue;
             const double L = detail::length(m_uniform_, d);
             if (!(L > kSqrt2)) continue;
             const int n = std::max(2, static_cast<int>(std::lround(L)));
@@ -1194,7 +1233,10 @@ class Mesher {
           const int n = std::max(2, static_cast<int>(std::lround(L)));
           bool first = true;
           // Unscaled metric length of the edge, for the gradation bound of ratio_at.
-          const double lu = (ra < 1 || rb < 1) ? 0.5 * (detail::length(vm_[a], d) * ra + detail::length(vm_[b], d) * rb) : 0;
+          const double lu =
+              (ra < 1 || rb < 1)
+                  ? 0.5 * (detail::length(vm_[a], d) * ra + detail::length(vm_[b], d) * rb)
+                  : 0;
           // The vertices opposite the edge bound the ratio too: a long edge leaving a
           // finely split boundary at a shallow angle passes its neighbours closer than
           // its own end, and a point placed with the ratio of the ends alone is then
@@ -1227,7 +1269,8 @@ class Mesher {
         }
         if (static_cast<std::int64_t>(tri_.pts.size()) >= opt_.max_vertices) {
           res_.status.code = StatusCode::Incomplete;
-          res_.status.message = "refinement stopped at max_vertices = " + std::to_string(opt_.max_vertices);
+          res_.status.message =
+              "refinement stopped at max_vertices = " + std::to_string(opt_.max_vertices);
           return;
         }
         InsertParams prm;
@@ -1249,7 +1292,8 @@ class Mesher {
           ++res_.stats.field_points_rejected;
           continue;
         }
-        const auto r = t0 != kNone ? tri_.insert_point_located(c.p, t0, o, prm) : tri_.insert_point(c.p, hint, prm);
+        const auto r = t0 != kNone ? tri_.insert_point_located(c.p, t0, o, prm)
+                                   : tri_.insert_point(c.p, hint, prm);
         last_v = r.v;
         if (r.status == InsertStatus::Inserted) {
           born.push_back(r.v);
@@ -1298,12 +1342,15 @@ class Mesher {
         if (tri_.seg[h] != kNone) continue;
         const std::int32_t g = tri_.opp[h];
         if (g == kNone) continue;
-        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)],
+                     b = tri_.tv[3 * t + detail::prev3(i)];
         const VertId d = tri_.tv[g];
         const auto& P = tri_.pts;
         const Metric2 m = iso_uniform_ ? Metric2{} : quad_metric(a, b, c, d);
-        const double before = std::min(quality_in(m, P[c], P[a], P[b]), quality_in(m, P[d], P[b], P[a]));
-        const double after = std::min(quality_in(m, P[c], P[a], P[d]), quality_in(m, P[d], P[b], P[c]));
+        const double before =
+            std::min(quality_in(m, P[c], P[a], P[b]), quality_in(m, P[d], P[b], P[a]));
+        const double after =
+            std::min(quality_in(m, P[c], P[a], P[d]), quality_in(m, P[d], P[b], P[c]));
         // Swap only for a clear gain (the factor keeps cocircular quads from flipping back).
         if (after > before * (1 + 1e-6) && tri_.flippable(h)) {
           tri_.flip(h);
@@ -1330,7 +1377,8 @@ class Mesher {
         if (tri_.seg[h] != kNone) continue;
         const std::int32_t g = tri_.opp[h];
         if (g == kNone || !in_domain(g / 3)) continue;
-        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)],
+                     b = tri_.tv[3 * t + detail::prev3(i)];
         const VertId d = tri_.tv[g];
         const double before = std::min(tq_[t], tq_[g / 3]);
         const double q1 = tri_q(c, a, d), q2 = tri_q(d, b, c);
@@ -1407,7 +1455,8 @@ class Mesher {
           tri_.pts[v] = q;
           if (!iso_uniform_) {
             vm_[v] = metric(q.x, q.y);
-            if (static_cast<std::size_t>(v) < rs_.size() && rs_[v] < 1) vm_[v] = detail::scaled(vm_[v], 1.0 / (rs_[v] * rs_[v]));
+            if (static_cast<std::size_t>(v) < rs_.size() && rs_[v] < 1)
+              vm_[v] = detail::scaled(vm_[v], 1.0 / (rs_[v] * rs_[v]));
           }
           ++moved;
           break;
@@ -1472,8 +1521,10 @@ class Mesher {
           // d area2 = (-ey, ex); d per = -u/la - w/lb; d hmax = -u/la or -w/lb or 0.
           double gx = -ey / area2 - (-ux / la - wx / lb) / per;
           double gy = ex / area2 - (-uy / la - wy / lb) / per;
-          if (hm == la) gx += ux / (la * hm), gy += uy / (la * hm);
-          else if (hm == lb) gx += wx / (lb * hm), gy += wy / (lb * hm);
+          if (hm == la)
+            gx += ux / (la * hm), gy += uy / (la * hm);
+          else if (hm == lb)
+            gx += wx / (lb * hm), gy += wy / (lb * hm);
           gk_[k] = ball_grad(k, {q * gx, q * gy});
         }
       }
@@ -1519,7 +1570,8 @@ class Mesher {
       double step = 1e300;
       for (std::size_t k = 0; k < n; ++k) {
         const double slope = gk_[k].x * d.x + gk_[k].y * d.y;
-        if (slope < dn2 && qk_[k] > qmin + tol) step = std::min(step, (qk_[k] - qmin) / (dn2 - slope));
+        if (slope < dn2 && qk_[k] > qmin + tol)
+          step = std::min(step, (qk_[k] - qmin) / (dn2 - slope));
       }
       const double ex = fr_[0].x - p.x, ey = fr_[0].y - p.y;
       step = std::min(step, 0.1 * std::sqrt((ex * ex + ey * ey) / dn2));
@@ -1571,8 +1623,10 @@ class Mesher {
           // d log Q = d per / per + d hmax / hmax - d area2 / area2.
           double gx = (-ux / la - wx / lb) / per + ey / area2;
           double gy = (-uy / la - wy / lb) / per - ex / area2;
-          if (hm == la) gx -= ux / (la * hm), gy -= uy / (la * hm);
-          else if (hm == lb) gx -= wx / (lb * hm), gy -= wy / (lb * hm);
+          if (hm == la)
+            gx -= ux / (la * hm), gy -= uy / (la * hm);
+          else if (hm == lb)
+            gx -= wx / (lb * hm), gy -= wy / (lb * hm);
           const Vec2 gp = ball_grad(k, {gx, gy});
           g.x += kPnorm * term * gp.x;
           g.y += kPnorm * term * gp.y;
@@ -1629,20 +1683,24 @@ class Mesher {
 
   // Frame of vertex v's metric (identity for a uniform field) and the exact validity of
   // a ball (p, ring[k], ring[k+1]) with p given in that frame.
-  detail::MetricFrame frame_of(VertId v) const { return detail::MetricFrame(iso_uniform_ ? Metric2{} : vm_[v]); }
+  detail::MetricFrame frame_of(VertId v) const {
+    return detail::MetricFrame(iso_uniform_ ? Metric2{} : vm_[v]);
+  }
   bool ball_valid(const detail::MetricFrame& f, Vec2 fp, const std::vector<VertId>& ring) const {
     const Vec2 q = iso_uniform_ ? fp : f.inv(fp);
     const auto& P = tri_.pts;
     const std::size_t n = ring.size();
     for (std::size_t k = 0; k < n; ++k)
-      if (!(pred::orient2d(&q.x, &P[ring[k]].x, &P[ring[k + 1 == n ? 0 : k + 1]].x) > 0)) return false;
+      if (!(pred::orient2d(&q.x, &P[ring[k]].x, &P[ring[k + 1 == n ? 0 : k + 1]].x) > 0))
+        return false;
     return true;
   }
   // mv: the metric of the moving vertex, for the per-triangle frames of a varying field.
   void load_ring(const detail::MetricFrame& f, const std::vector<VertId>& ring, const Metric2& mv) {
     const std::size_t n = ring.size();
     fr_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) fr_[k] = iso_uniform_ ? tri_.pts[ring[k]] : f(tri_.pts[ring[k]]);
+    for (std::size_t k = 0; k < n; ++k)
+      fr_[k] = iso_uniform_ ? tri_.pts[ring[k]] : f(tri_.pts[ring[k]]);
     if (!multi_frame_) return;
     // Each ball triangle in its own frame, that of the mean of its vertex metrics (as
     // tri_q and the measure judge it): one frame for the whole ball misjudges a metric
@@ -1683,7 +1741,8 @@ class Mesher {
     tri_.pts[v] = q;
     if (!iso_uniform_) {
       vm_[v] = metric(q.x, q.y);
-      if (static_cast<std::size_t>(v) < rs_.size() && rs_[v] < 1) vm_[v] = detail::scaled(vm_[v], 1.0 / (rs_[v] * rs_[v]));
+      if (static_cast<std::size_t>(v) < rs_.size() && rs_[v] < 1)
+        vm_[v] = detail::scaled(vm_[v], 1.0 / (rs_[v] * rs_[v]));
     }
   }
 
@@ -1714,10 +1773,13 @@ class Mesher {
     const detail::MetricFrame f(detail::mean3(vm_[a], vm_[b], vm_[c]));
     return q_inv(f(P[a]), f(P[b]), f(P[c]));
   }
-  double tri_q(TriId t) const { return tri_q(tri_.tv[3 * t], tri_.tv[3 * t + 1], tri_.tv[3 * t + 2]); }
+  double tri_q(TriId t) const {
+    return tri_q(tri_.tv[3 * t], tri_.tv[3 * t + 1], tri_.tv[3 * t + 2]);
+  }
   double ball_min(VertId v, const std::vector<VertId>& ring) const {
     double m = 1e300;
-    for (std::size_t k = 0; k < ring.size(); ++k) m = std::min(m, tri_q(v, ring[k], ring[k + 1 == ring.size() ? 0 : k + 1]));
+    for (std::size_t k = 0; k < ring.size(); ++k)
+      m = std::min(m, tri_q(v, ring[k], ring[k + 1 == ring.size() ? 0 : k + 1]));
     return m;
   }
   bool has_constrained_edge(VertId v) const {
@@ -1727,7 +1789,9 @@ class Mesher {
     do {
       int k = 0;
       while (tri_.tv[3 * t + k] != v) ++k;
-      if (tri_.seg[3 * t + detail::next3(k)] != kNone || tri_.seg[3 * t + detail::prev3(k)] != kNone) return true;
+      if (tri_.seg[3 * t + detail::next3(k)] != kNone ||
+          tri_.seg[3 * t + detail::prev3(k)] != kNone)
+        return true;
       const std::int32_t h = tri_.opp[3 * t + detail::next3(k)];
       if (h == kNone || ++guard > 256) return true;
       t = h / 3;
@@ -1740,7 +1804,8 @@ class Mesher {
       const std::int32_t h = 3 * t + i;
       if (tri_.seg[h] != kNone || tri_.opp[h] == kNone) continue;
       const std::int32_t g = tri_.opp[h];
-      const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+      const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)],
+                   b = tri_.tv[3 * t + detail::prev3(i)];
       const VertId d = tri_.tv[g];
       const double before = std::min(tri_q(c, a, b), tri_q(d, b, a));
       const double after = std::min(tri_q(c, a, d), tri_q(d, b, c));
@@ -1756,7 +1821,9 @@ class Mesher {
   // free too the merged vertex is placed by maxmin_core on the union of both rings.
   bool try_collapse(TriId t) {
     std::array<std::pair<double, int>, 3> order;
-    for (int i = 0; i < 3; ++i) order[i] = {rank_len2(tri_.tv[3 * t + detail::next3(i)], tri_.tv[3 * t + detail::prev3(i)]), i};
+    for (int i = 0; i < 3; ++i)
+      order[i] = {rank_len2(tri_.tv[3 * t + detail::next3(i)], tri_.tv[3 * t + detail::prev3(i)]),
+                  i};
     std::sort(order.begin(), order.end());
     for (const auto& [len, i] : order) {
       const VertId e0 = tri_.tv[3 * t + detail::next3(i)], e1 = tri_.tv[3 * t + detail::prev3(i)];
@@ -1788,8 +1855,10 @@ class Mesher {
           for (std::size_t k = 0; k < n && ok; ++k) {
             const VertId a = rv_[k], b = rv_[k + 1 == n ? 0 : k + 1];
             if (a == u || b == u) continue;
-            if (!(pred::orient2d(&p.x, &P[a].x, &P[b].x) > 0)) ok = false;
-            else nmin = std::min(nmin, tri_q(u, a, b));
+            if (!(pred::orient2d(&p.x, &P[a].x, &P[b].x) > 0))
+              ok = false;
+            else
+              nmin = std::min(nmin, tri_q(u, a, b));
           }
           if (!ok || !accept_q(nmin, old_min, floor)) return false;
           if (size_check)
@@ -1808,8 +1877,10 @@ class Mesher {
           const VertId x = rv_[(iu + nv - 1) % nv], y = rv_[(iu + 1) % nv];
           if (ru_[(iv + 1) % nu] != x || ru_[(iv + nu - 1) % nu] != y) return false;
           merged_.clear();
-          for (std::size_t k = (iv + 1) % nu; k != iv; k = (k + 1) % nu) merged_.push_back(ru_[k]);  // x .. y
-          for (std::size_t k = (iu + 2) % nv; k != (iu + nv - 1) % nv; k = (k + 1) % nv) merged_.push_back(rv_[k]);
+          for (std::size_t k = (iv + 1) % nu; k != iv; k = (k + 1) % nu)
+            merged_.push_back(ru_[k]);  // x .. y
+          for (std::size_t k = (iu + 2) % nv; k != (iu + nv - 1) % nv; k = (k + 1) % nv)
+            merged_.push_back(rv_[k]);
           // The link condition: no vertex twice.
           std::vector<VertId>& srt = srt_;
           srt.assign(merged_.begin(), merged_.end());
@@ -1828,7 +1899,8 @@ class Mesher {
             if (ns++ >= starts) break;
             Vec2 fp = iso_uniform_ ? s0 : f(s0);
             if (!ball_valid(f, fp, merged_)) continue;
-            const double q = maxmin_core(fp, 2.0, 12, [&](Vec2 z) { return ball_valid(f, z, merged_); });
+            const double q =
+                maxmin_core(fp, 2.0, 12, [&](Vec2 z) { return ball_valid(f, z, merged_); });
             if (q > best) best = q, bp = fp;
             if (best > old_min || (floor > 0 && best >= floor)) break;
           }
@@ -1856,7 +1928,8 @@ class Mesher {
     int i = 0;
     double lmax = -1;
     for (int k = 0; k < 3; ++k) {
-      const double l = rank_len2(tri_.tv[3 * t + detail::next3(k)], tri_.tv[3 * t + detail::prev3(k)]);
+      const double l =
+          rank_len2(tri_.tv[3 * t + detail::next3(k)], tri_.tv[3 * t + detail::prev3(k)]);
       if (l > lmax) lmax = l, i = k;
     }
     return split_at(3 * t + i, 0, false);
@@ -1870,7 +1943,8 @@ class Mesher {
     if (tri_.seg[h] != kNone || tri_.opp[h] == kNone) return false;
     const std::int32_t g = tri_.opp[h];
     if (!in_domain(g / 3)) return false;
-    const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+    const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)],
+                 b = tri_.tv[3 * t + detail::prev3(i)];
     const VertId d = tri_.tv[g];
     const Vec2 m{0.5 * (P[a].x + P[b].x), 0.5 * (P[a].y + P[b].y)};
     const double rm = iso_uniform_ ? 1.0 : std::max(rs_[a], rs_[b]);
@@ -1885,7 +1959,9 @@ class Mesher {
       if (e == kNone || tri_.seg[e] != kNone || !in_domain(e / 3)) continue;
       const VertId x = tri_.tv[e];
       const double qo = tri_q(e / 3);
-      if (!(pred::orient2d(&m.x, &P[r0].x, &P[x].x) > 0) || !(pred::orient2d(&m.x, &P[x].x, &P[r1].x) > 0)) continue;
+      if (!(pred::orient2d(&m.x, &P[r0].x, &P[x].x) > 0) ||
+          !(pred::orient2d(&m.x, &P[x].x, &P[r1].x) > 0))
+        continue;
       const double before = std::min(qo, q_of_point(m, mm, r0, r1));
       const double after = std::min(q_of_point(m, mm, r0, x), q_of_point(m, mm, x, r1));
       if (!(after > before)) continue;
@@ -1917,7 +1993,8 @@ class Mesher {
     }
     // A flip refused above leaves another ring than the one fp was placed for: keep the
     // midpoint then (valid: split_edge checked it).
-    if (gather_ring(nv, rv_) && ball_valid(f, fp, rv_)) set_position(nv, iso_uniform_ ? fp : f.inv(fp));
+    if (gather_ring(nv, rv_) && ball_valid(f, fp, rv_))
+      set_position(nv, iso_uniform_ ? fp : f.inv(fp));
     return true;
   }
   double q_of_point(Vec2 p, const Metric2& mp, VertId a, VertId b) const {
@@ -1981,7 +2058,8 @@ class Mesher {
   // The in-domain triangles worse than q found in the balls of the vertices vs (each once).
   void bad_in_balls(const std::vector<VertId>& vs, double q, std::vector<TriId>& out) {
     out.clear();
-    if (tmark_.size() < static_cast<std::size_t>(tri_.num_tris())) tmark_.resize(tri_.num_tris(), 0);
+    if (tmark_.size() < static_cast<std::size_t>(tri_.num_tris()))
+      tmark_.resize(tri_.num_tris(), 0);
     ++tepoch_;
     for (const VertId v : vs)
       for_ball(v, [&](TriId t) {
@@ -2045,7 +2123,8 @@ class Mesher {
     // Work budget (triangle evaluations): where bad elements cannot be repaired (small
     // input angles between fixed boundary edges) the loop would otherwise try them all,
     // round after round. A uniform unit mesh needs a small fraction of it.
-    const std::int64_t budget = work_ + kRepairWork * static_cast<std::int64_t>(tri_.num_tris()) + 100000;
+    const std::int64_t budget =
+        work_ + kRepairWork * static_cast<std::int64_t>(tri_.num_tris()) + 100000;
     for (int round = 0; round < rounds; ++round) {
       if (over_time("optimization") || work_ > budget) return;
       // Later rounds look only at the balls of the vertices the round before touched
@@ -2115,13 +2194,18 @@ class Mesher {
           touch_around(t, touched);
           continue;
         }
-        if (try_collapse(t)) { ++changes; continue; }
+        if (try_collapse(t)) {
+          ++changes;
+          continue;
+        }
         // A varying field's triangle whose three vertices are all on the boundary lies
         // where the domain is narrower than the field's size (CAD faces: the last
         // micrometres of a tangential contact); a split only puts an interior vertex
         // into that gap (occt_crankarm: six slivers of Q 22 with one, instead of the
         // boundary-only slivers the report counts apart).
-        if (!iso_uniform_ && fixed_[tri_.tv[3 * t]] && fixed_[tri_.tv[3 * t + 1]] && fixed_[tri_.tv[3 * t + 2]]) continue;
+        if (!iso_uniform_ && fixed_[tri_.tv[3 * t]] && fixed_[tri_.tv[3 * t + 1]] &&
+            fixed_[tri_.tv[3 * t + 2]])
+          continue;
         const VertId nv = tri_.num_verts();
         if (try_split(t)) {
           ++changes;
@@ -2152,8 +2236,10 @@ class Mesher {
         if (tri_.seg[h] != kNone || g == kNone || g / 3 < t || !in_domain(g / 3)) continue;
         const VertId a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
         const double l = true_len(tri_.pts[a], vm_[a], rs_[a], b);
-        if (l > kSqrt2) longs.push_back({l, a, b});
-        else if (l < 1 / kSqrt2) shorts.push_back({l, a, b});
+        if (l > kSqrt2)
+          longs.push_back({l, a, b});
+        else if (l < 1 / kSqrt2)
+          shorts.push_back({l, a, b});
       }
     }
     std::sort(longs.begin(), longs.end(), [](const E& x, const E& y) { return x.l > y.l; });
@@ -2221,14 +2307,17 @@ class Mesher {
           onb[tri_.tv[3 * t + detail::next3(i)]] = 1;
           onb[tri_.tv[3 * t + detail::prev3(i)]] = 1;
         }
-        const Vec2 a = P[v], b = P[tri_.tv[3 * t + detail::next3(i)]], c = P[tri_.tv[3 * t + detail::prev3(i)]];
+        const Vec2 a = P[v], b = P[tri_.tv[3 * t + detail::next3(i)]],
+                   c = P[tri_.tv[3 * t + detail::prev3(i)]];
         const double ux = b.x - a.x, uy = b.y - a.y, wx = c.x - a.x, wy = c.y - a.y;
         ang[v] += std::atan2(ux * wy - uy * wx, ux * wx + uy * wy);
       }
     }
     std::vector<std::int32_t> ideal(nv, 6);
     for (VertId v = 0; v < nv; ++v)
-      if (onb[v]) ideal[v] = std::max(1, static_cast<int>(std::lround(ang[v] / (3.14159265358979323846 / 3))));
+      if (onb[v])
+        ideal[v] =
+            std::max(1, static_cast<int>(std::lround(ang[v] / (3.14159265358979323846 / 3))));
     std::int64_t swaps = 0;
     for (TriId t = 0; t < nt; ++t) {
       if (!in_domain(t)) continue;
@@ -2237,7 +2326,8 @@ class Mesher {
         if (tri_.seg[h] != kNone) continue;
         const std::int32_t g = tri_.opp[h];
         if (g == kNone || g / 3 < t) continue;
-        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)], b = tri_.tv[3 * t + detail::prev3(i)];
+        const VertId c = tri_.tv[h], a = tri_.tv[3 * t + detail::next3(i)],
+                     b = tri_.tv[3 * t + detail::prev3(i)];
         const VertId d = tri_.tv[g];
         auto dev = [&](VertId v, int delta) {
           const double e = cnt[v] + delta - ideal[v];
@@ -2247,8 +2337,10 @@ class Mesher {
         const double after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
         if (!(after < before)) continue;
         const Metric2 m = iso_uniform_ ? Metric2{} : quad_metric(a, b, c, d);
-        const double qb = std::min(quality_in(m, P[c], P[a], P[b]), quality_in(m, P[d], P[b], P[a]));
-        const double qa = std::min(quality_in(m, P[c], P[a], P[d]), quality_in(m, P[d], P[b], P[c]));
+        const double qb =
+            std::min(quality_in(m, P[c], P[a], P[b]), quality_in(m, P[d], P[b], P[a]));
+        const double qa =
+            std::min(quality_in(m, P[c], P[a], P[d]), quality_in(m, P[d], P[b], P[c]));
         if (qa < kValenceQualityKeep * qb || !tri_.flippable(h)) continue;
         tri_.flip(h);
         --cnt[a], --cnt[b], ++cnt[c], ++cnt[d];
@@ -2261,7 +2353,8 @@ class Mesher {
 
   // Options::time_limit: true (and the status set) once it is exceeded.
   bool over_time(const char* stage) {
-    if (!(opt_.time_limit > 0) || res_.status.code == StatusCode::TimeLimit) return res_.status.code == StatusCode::TimeLimit;
+    if (!(opt_.time_limit > 0) || res_.status.code == StatusCode::TimeLimit)
+      return res_.status.code == StatusCode::TimeLimit;
     const double s = std::chrono::duration<double>(Clock::now() - t_start_).count();
     if (s <= opt_.time_limit) return false;
     res_.status.code = StatusCode::TimeLimit;
@@ -2286,7 +2379,8 @@ class Mesher {
     // max-min passes give the same quality after the repair and size passes below, Q_M
     // 1.50 against 1.44, at twice the optimization time).
     multi_frame_ = !iso_uniform_;
-    const int kval = iso_uniform_ ? 3 : 1, kpre = iso_uniform_ ? opt_.optimize_passes : std::min(2, opt_.optimize_passes),
+    const int kval = iso_uniform_ ? 3 : 1,
+              kpre = iso_uniform_ ? opt_.optimize_passes : std::min(2, opt_.optimize_passes),
               kmm = iso_uniform_ ? 6 : 2;
     for (int pass = 0; pass < kval; ++pass) {
       if (over_time("optimization")) return;
@@ -2350,13 +2444,15 @@ class Mesher {
       const auto& P = tri_.pts;
       const VertId a = tri_.tv[3 * t], b = tri_.tv[3 * t + 1], c = tri_.tv[3 * t + 2];
       if (pred::orient2d(&P[a].x, &P[b].x, &P[c].x) <= 0)
-        return fail(StatusCode::InternalError, std::string("checker ") + when + ": triangle " + std::to_string(t) + " is not CCW");
+        return fail(StatusCode::InternalError, std::string("checker ") + when + ": triangle " +
+                                                   std::to_string(t) + " is not CCW");
       for (int i = 0; i < 3; ++i) {
         const std::int32_t h = 3 * t + i, g = tri_.opp[h];
         if (g == kNone) continue;
         if (tri_.opp[g] != h || tri_.dead(g / 3) || tri_.seg[g] != tri_.seg[h] ||
             tri_.tv[3 * (g / 3) + detail::next3(g % 3)] != tri_.tv[3 * t + detail::prev3(i)])
-          return fail(StatusCode::InternalError, std::string("checker ") + when + ": neighbours of triangle " +
+          return fail(StatusCode::InternalError, std::string("checker ") + when +
+                                                     ": neighbours of triangle " +
                                                      std::to_string(t) + " are not symmetric");
       }
     }
@@ -2380,7 +2476,8 @@ class Mesher {
     // Sized once: a million-triangle mesh otherwise grows every array by doubling.
     detail::reserve_huge(M.vertices, M.vertices.size() + static_cast<std::size_t>(nv));
     detail::reserve_huge(M.vertex_markers, M.vertex_markers.size() + static_cast<std::size_t>(nv));
-    if (vm_.size() == tri_.pts.size()) M.vertex_metric.reserve(M.vertex_metric.size() + static_cast<std::size_t>(nv));
+    if (vm_.size() == tri_.pts.size())
+      M.vertex_metric.reserve(M.vertex_metric.size() + static_cast<std::size_t>(nv));
     detail::reserve_huge(M.triangles, M.triangles.size() + ndom);
     detail::reserve_huge(M.triangle_region, M.triangle_region.size() + ndom);
     detail::reserve_huge(M.triangle_attribute, M.triangle_attribute.size() + ndom);
@@ -2395,14 +2492,16 @@ class Mesher {
     for (std::size_t i = 0; i < n; ++i) take(vid_[i]);
     for (VertId v = 4; v < nv; ++v) take(v);
     M.input_vertex.resize(n);
-    for (std::size_t i = 0; i < n; ++i) M.input_vertex[i] = vid_[i] == kNone ? kNone : newid[vid_[i]];
+    for (std::size_t i = 0; i < n; ++i)
+      M.input_vertex[i] = vid_[i] == kNone ? kNone : newid[vid_[i]];
     std::vector<std::int32_t> region_id(removed_.size(), -1);
     std::int32_t nreg = 0;
     for (TriId t = 0; t < nt; ++t) {
       if (!in_domain(t)) continue;
       const std::int32_t c = tri_.tag[t];
       if (region_id[c] < 0) region_id[c] = nreg++;
-      M.triangles.push_back({newid[tri_.tv[3 * t]], newid[tri_.tv[3 * t + 1]], newid[tri_.tv[3 * t + 2]]});
+      M.triangles.push_back(
+          {newid[tri_.tv[3 * t]], newid[tri_.tv[3 * t + 1]], newid[tri_.tv[3 * t + 2]]});
       M.triangle_region.push_back(region_id[c]);
       M.triangle_attribute.push_back(attr_[c]);
       for (int i = 0; i < 3; ++i) {
@@ -2431,17 +2530,17 @@ class Mesher {
   const Options& opt_;
   Result& res_;
   Triangulation tri_;
-  std::vector<std::int32_t> rep_;   // input point -> representative input point
+  std::vector<std::int32_t> rep_;       // input point -> representative input point
   std::vector<std::int32_t> xy_order_;  // input points sorted by (x, y)
-  std::vector<VertId> vid_;         // point index -> triangulation vertex
+  std::vector<VertId> vid_;             // point index -> triangulation vertex
   std::vector<SegRec> segs_;
   Clock::time_point t_start_ = Clock::now();  // for Options::time_limit
-  std::vector<double> rs_;  // per vertex: boundary size ratio (<= 1; Options::boundary_gradation)
-  std::vector<char> fixed_;         // per triangulation vertex: not movable
-  std::vector<int> vmark_;          // per triangulation vertex: marker
-  std::vector<Metric2> vm_;         // per triangulation vertex: metric
-  std::vector<char> removed_;       // per component: exterior or hole
-  std::vector<double> attr_;        // per component: region attribute
+  std::vector<double> rs_;   // per vertex: boundary size ratio (<= 1; Options::boundary_gradation)
+  std::vector<char> fixed_;  // per triangulation vertex: not movable
+  std::vector<int> vmark_;   // per triangulation vertex: marker
+  std::vector<Metric2> vm_;  // per triangulation vertex: metric
+  std::vector<char> removed_;  // per component: exterior or hole
+  std::vector<double> attr_;   // per component: region attribute
   std::int32_t last_hole_ = -1;
   double h_uniform_ = 0;
   Metric2 m_uniform_;
@@ -2449,20 +2548,20 @@ class Mesher {
   std::int64_t overlaps_merged_ = 0;  // segment pieces dropped as copies of another (enforce_work)
   bool field_error_ = false;
   bool iso_uniform_ = false;
-  bool lattice_used_ = false;  // lattice_points placed the field points
+  bool lattice_used_ = false;         // lattice_points placed the field points
   std::vector<std::uint64_t> edges_;  // output edges, each once (a << 32 | b), for measure
-  std::vector<Vec2> fr_, gk_;  // maxmin_relocate scratch: ring in the frame, gradients
+  std::vector<Vec2> fr_, gk_;         // maxmin_relocate scratch: ring in the frame, gradients
   struct BallTri {
     double a11, a12, a22;  // ball frame -> this triangle's frame (upper triangular)
     Vec2 a, b;             // its ring edge in its frame
   };
-  std::vector<BallTri> bt_;     // per-triangle frames (multi_frame_)
-  std::vector<double> tq_;      // swap_pass_varying: 1/Q_K per triangle
+  std::vector<BallTri> bt_;    // per-triangle frames (multi_frame_)
+  std::vector<double> tq_;     // swap_pass_varying: 1/Q_K per triangle
   detail::KeySet64 analysed_;  // refine: edges (a << 32 | b) already analysed
-  bool multi_frame_ = false;    // the field varies: each ball triangle in its own frame
+  bool multi_frame_ = false;   // the field varies: each ball triangle in its own frame
   std::vector<VertId> rv_, ru_, merged_, nbr_, srt_;  // repair scratch: rings
   std::vector<std::pair<VertId, Vec2>> saved_;
-  std::int64_t work_ = 0;  // triangle evaluations of maxmin_core / pnorm_core
+  std::int64_t work_ = 0;             // triangle evaluations of maxmin_core / pnorm_core
   std::vector<std::uint32_t> tmark_;  // bad_in_balls: triangle marks
   std::uint32_t tepoch_ = 0;
   std::vector<std::pair<VertId, VertId>> absorbed_;

@@ -17,7 +17,9 @@ inline double length(const Metric2& m, Vec2 d) {
 
 // Convex combination of SPD tensors: SPD. Used as the metric of a triangle or an edge
 // when only the vertex metrics are known.
-inline Metric2 scaled(const Metric2& a, double s) { return {a.m11 * s, a.m12 * s, a.m22 * s}; }
+inline Metric2 scaled(const Metric2& a, double s) {
+  return {a.m11 * s, a.m12 * s, a.m22 * s};
+}
 inline Metric2 mean3(const Metric2& a, const Metric2& b, const Metric2& c) {
   return {(a.m11 + b.m11 + c.m11) / 3, (a.m12 + b.m12 + c.m12) / 3, (a.m22 + b.m22 + c.m22) / 3};
 }
@@ -62,8 +64,10 @@ inline Metric2 cap_anisotropy(const Metric2& m, double cap) {
   }
   double n = std::hypot(ex, ey);
   if (!(n > 0)) {  // diagonal: the smaller diagonal entry's axis
-    if (m.m11 <= m.m22) ex = 1, ey = 0;
-    else ex = 0, ey = 1;
+    if (m.m11 <= m.m22)
+      ex = 1, ey = 0;
+    else
+      ex = 0, ey = 1;
     n = 1;
   }
   ex /= n;
@@ -86,7 +90,8 @@ inline Metric2 metric_at(const SizeSpec& s, double x, double y) {
 
 // measure() with the undirected edges given once each as (a << 32 | b) when the caller
 // knows them from its adjacency (the mesher does), else (nullptr) found by sorting.
-Quality measure_with_edges(const std::vector<Vec2>& vertices, const std::vector<std::array<VertId, 3>>& tris,
-                           const SizeSpec& size, std::vector<std::uint64_t>* known_edges);
+Quality measure_with_edges(const std::vector<Vec2>& vertices,
+                           const std::vector<std::array<VertId, 3>>& tris, const SizeSpec& size,
+                           std::vector<std::uint64_t>* known_edges);
 
 }  // namespace uvmesh::m2d::detail

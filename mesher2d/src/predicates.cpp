@@ -47,13 +47,13 @@
 // few ulps; a nonzero result too small for a double is returned as +-denorm_min.
 #include "uvmesh/mesher2d/predicates.h"
 
-#include "predicates_filter.h"
-
 #include <bit>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+
+#include "predicates_filter.h"
 
 #if defined(__FAST_MATH__)
 #error "predicates.cpp must not be compiled with -ffast-math: the error bounds need IEEE arithmetic"
@@ -805,7 +805,7 @@ double incircle_stages(const double* p) {
 }
 
 UVMESH_PRED_COLD double incircle_slow_impl(const double* pa, const double* pb, const double* pc,
-                                      const double* pd) {
+                                           const double* pd) {
   double p[8] = {pa[0], pa[1], pb[0], pb[1], pc[0], pc[1], pd[0], pd[1]};
   int shift = 0;
   switch (check_range<8>(p, kIncircleRange, shift)) {
@@ -831,13 +831,17 @@ UVMESH_PRED_COLD double incircle_slow_impl(const double* pa, const double* pb, c
 // ---------------------------------------------------------------------------------------
 
 namespace detail {
-double orient2d_slow(const double* a, const double* b, const double* c) { return orient2d_slow_impl(a, b, c); }
+double orient2d_slow(const double* a, const double* b, const double* c) {
+  return orient2d_slow_impl(a, b, c);
+}
 double incircle_slow(const double* a, const double* b, const double* c, const double* d) {
   return incircle_slow_impl(a, b, c, d);
 }
 }  // namespace detail
 
-double orient2d(const double* a, const double* b, const double* c) { return detail::orient2d_filtered(a, b, c); }
+double orient2d(const double* a, const double* b, const double* c) {
+  return detail::orient2d_filtered(a, b, c);
+}
 
 double incircle(const double* a, const double* b, const double* c, const double* d) {
   return detail::incircle_filtered(a, b, c, d);

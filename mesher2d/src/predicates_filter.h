@@ -81,13 +81,15 @@ inline double orient2d_filter(const double* a, const double* b, const double* c)
   // One comparison of |det| (the sign is tested by the caller: one data-dependent branch,
   // not two). A NaN det makes it false; an infinite det comes with an infinite
   // bound. Either way the slow path decides.
-  if (std::fabs(det) > errbound) [[likely]] return det;
+  if (std::fabs(det) > errbound) [[likely]]
+    return det;
   return 0;
 }
 
 inline double orient2d_filtered(const double* a, const double* b, const double* c) {
   const double det = orient2d_filter(a, b, c);
-  if (det != 0) [[likely]] return det;
+  if (det != 0) [[likely]]
+    return det;
   return orient2d_slow(a, b, c);
 }
 
@@ -120,13 +122,16 @@ inline double incircle_filter(const double* a, const double* b, const double* c,
   const double least = kFloor * (lifts > 1.0 ? lifts : 1.0);
   const double bound = kIcA * permanent;
   const double errbound = bound > least ? bound : least;
-  if (std::fabs(det) > errbound) [[likely]] return det;
+  if (std::fabs(det) > errbound) [[likely]]
+    return det;
   return 0;
 }
 
-inline double incircle_filtered(const double* a, const double* b, const double* c, const double* d) {
+inline double incircle_filtered(const double* a, const double* b, const double* c,
+                                const double* d) {
   const double det = incircle_filter(a, b, c, d);
-  if (det != 0) [[likely]] return det;
+  if (det != 0) [[likely]]
+    return det;
   return incircle_slow(a, b, c, d);
 }
 

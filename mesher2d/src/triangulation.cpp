@@ -65,7 +65,9 @@ TriId Triangulation::new_tri() {
   return t;
 }
 
-TriId Triangulation::locate(Vec2 p, TriId hint) const { return locate(p, hint, nullptr); }
+TriId Triangulation::locate(Vec2 p, TriId hint) const {
+  return locate(p, hint, nullptr);
+}
 
 TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
   TriId t = hint;
@@ -86,7 +88,9 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
   const std::int64_t cap = 4 * static_cast<std::int64_t>(num_tris()) + 64;
   const VertId* const TV = tv.data();
   const Vec2* const P = pts.data();
-  auto side = [&](TriId s, int i) { return orient(P[TV[3 * s + next3(i)]], P[TV[3 * s + prev3(i)]], p); };
+  auto side = [&](TriId s, int i) {
+    return orient(P[TV[3 * s + next3(i)]], P[TV[3 * s + prev3(i)]], p);
+  };
   int entered = -1;
   for (std::int64_t step = 0; step < cap; ++step) {
     rng_ ^= rng_ << 13;
@@ -107,7 +111,8 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
     } else {
       o[entered] = 1;
       const bool swap = (rng_ >> 17) & 1;
-      const int i1 = swap ? prev3(entered) : next3(entered), i2 = swap ? next3(entered) : prev3(entered);
+      const int i1 = swap ? prev3(entered) : next3(entered),
+                i2 = swap ? next3(entered) : prev3(entered);
       o[i1] = side(t, i1);
       if (o[i1] < 0) {
         cross = i1;
@@ -133,14 +138,16 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
       in = orient(pts[tv[3 * s + next3(i)]], pts[tv[3 * s + prev3(i)]], p) >= 0;
     if (in) {
       if (orients)
-        for (int i = 0; i < 3; ++i) orients[i] = orient(pts[tv[3 * s + next3(i)]], pts[tv[3 * s + prev3(i)]], p);
+        for (int i = 0; i < 3; ++i)
+          orients[i] = orient(pts[tv[3 * s + next3(i)]], pts[tv[3 * s + prev3(i)]], p);
       return s;
     }
   }
   return kNone;
 }
 
-bool Triangulation::in_cavity_metric(TriId t, Vec2 p, const InsertParams& /*prm: its frame is frame_*/) const {
+bool Triangulation::in_cavity_metric(TriId t, Vec2 p,
+                                     const InsertParams& /*prm: its frame is frame_*/) const {
   const Vec2& a = pts[tv[3 * t]];
   const Vec2& b = pts[tv[3 * t + 1]];
   const Vec2& c = pts[tv[3 * t + 2]];
@@ -176,7 +183,8 @@ InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm
   return insert_located(v, t0, o0, prm);
 }
 
-InsertResult Triangulation::insert_point_located(Vec2 p, TriId t0, const double* o0, const InsertParams& prm) {
+InsertResult Triangulation::insert_point_located(Vec2 p, TriId t0, const double* o0,
+                                                 const InsertParams& prm) {
   const VertId v = add_vertex(p);
   InsertResult r = insert_located(v, t0, o0, prm);
   if (r.status != InsertStatus::Inserted) {
@@ -186,7 +194,8 @@ InsertResult Triangulation::insert_point_located(Vec2 p, TriId t0, const double*
   return r;
 }
 
-InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0, const InsertParams& prm) {
+InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
+                                           const InsertParams& prm) {
   const Vec2 p = pts[v];
   if (prm.use_metric) {
     // M(P) = R^T R, R = [[l11, l12], [0, l22]]: the frame of in_cavity_metric's test.
@@ -221,7 +230,8 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
     if (P[b].x == p.x && P[b].y == p.y) return {InsertStatus::Duplicate, b};
     const std::int32_t h = OPP[3 * t0 + i];
     if (h == kNone) return {InsertStatus::Outside, kNone};
-    if (SEG[3 * t0 + i] != kNone && !prm.allow_on_constraint) return {InsertStatus::OnConstraint, kNone};
+    if (SEG[3 * t0 + i] != kNone && !prm.allow_on_constraint)
+      return {InsertStatus::OnConstraint, kNone};
     if (mark[h / 3] != IN) {
       mark[h / 3] = IN;
       cav_.push_back(h / 3);
@@ -279,7 +289,8 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
       }
     }
     if (!bad) break;
-    if (attempt > 0 || !star_correct(p, nbase, IN, OUT, CAND)) return {InsertStatus::BadCavity, kNone};
+    if (attempt > 0 || !star_correct(p, nbase, IN, OUT, CAND))
+      return {InsertStatus::BadCavity, kNone};
   }
   return make_ball(v, t0, prm, cav_.data(), cav_.size(), bd.data(), bnd_.size());
 }

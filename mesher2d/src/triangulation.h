@@ -34,8 +34,12 @@ namespace uvmesh::m2d::detail {
 // depends on data (the edge a walk or a cavity enters by), so a conditional is
 // mispredicted about every other time; cachegrind counted these two as 46% of the
 // mispredicted branches of the Delaunay kernel.
-inline int next3(int i) { return (0x09 >> (2 * i)) & 3; }
-inline int prev3(int i) { return (0x12 >> (2 * i)) & 3; }
+inline int next3(int i) {
+  return (0x09 >> (2 * i)) & 3;
+}
+inline int prev3(int i) {
+  return (0x12 >> (2 * i)) & 3;
+}
 
 // What the cavity criterion of one insertion uses (§7.3.2 isotropic, §7.6.1 anisotropic).
 struct InsertParams {
@@ -103,8 +107,8 @@ class Triangulation {
   enum class EnforceStatus { Ok, Crossing, ThroughVertex };
   struct EnforceResult {
     EnforceStatus status = EnforceStatus::Ok;
-    VertId through = kNone;         // ThroughVertex: the vertex on (a, b)
-    std::int32_t crossing_seg = kNone;  // Crossing: the segment id crossed
+    VertId through = kNone;                         // ThroughVertex: the vertex on (a, b)
+    std::int32_t crossing_seg = kNone;              // Crossing: the segment id crossed
     VertId crossing_a = kNone, crossing_b = kNone;  // Crossing: the constrained edge
   };
   EnforceResult enforce(VertId a, VertId b, std::int32_t sid);
@@ -176,20 +180,21 @@ class Triangulation {
     std::int32_t out, s;
   };
   bool cavity_unmarked(TriId t0, Vec2 p, const InsertParams& prm);
-  InsertResult make_ball(VertId v, TriId t0, const InsertParams& prm, const TriId* cav, std::size_t nc,
-                         const BoundaryEdge* bd, std::size_t m);
+  InsertResult make_ball(VertId v, TriId t0, const InsertParams& prm, const TriId* cav,
+                         std::size_t nc, const BoundaryEdge* bd, std::size_t m);
   void link(std::int32_t h1, std::int32_t h2) {
     opp[h1] = h2;
     if (h2 != kNone) opp[h2] = h1;
   }
   TriId new_tri();
-  bool star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, std::uint32_t OUT, std::uint32_t CAND);
+  bool star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, std::uint32_t OUT,
+                    std::uint32_t CAND);
 
   // Scratch, reused between insertions (epoch marks avoid clearing).
   mutable std::vector<std::uint32_t> mark_;
   mutable std::uint32_t epoch_ = 0;
   std::vector<TriId> cav_, stack_, free_;
-  std::vector<std::int32_t> bnd_;     // boundary half-edges of the cavity (inside side)
+  std::vector<std::int32_t> bnd_;  // boundary half-edges of the cavity (inside side)
   // cavity_unmarked's cavity, the half-edge each of its triangles was entered by, its
   // boundary edges, and their counts.
   static constexpr std::size_t kMaxFastCavity = 96;
@@ -241,15 +246,19 @@ class HullDelaunay {
   // distinct points, or all on one line (no triangle). Internal: a bug guard fired.
   Status build(const std::vector<Vec2>& in);
 
-  bool ghost(const Tri& r) const { return r.v[0] == ghost_id || r.v[1] == ghost_id || r.v[2] == ghost_id; }
-  int ghost_corner(const Tri& r) const { return r.v[0] == ghost_id ? 0 : r.v[1] == ghost_id ? 1 : 2; }
+  bool ghost(const Tri& r) const {
+    return r.v[0] == ghost_id || r.v[1] == ghost_id || r.v[2] == ghost_id;
+  }
+  int ghost_corner(const Tri& r) const {
+    return r.v[0] == ghost_id ? 0 : r.v[1] == ghost_id ? 1 : 2;
+  }
 
   VertId ghost_id = 0;            // G: the vertex after the last input point
   std::vector<Vec2> pts;          // vertex -> point (pts[ghost_id]: G, NaN coordinates)
   std::vector<std::int32_t> src;  // vertex -> input point index
   std::vector<VertId> vert_of;    // input point index -> vertex (src's inverse)
   std::vector<std::pair<VertId, VertId>> dups;  // (unused vertex, the equal vertex kept)
-  std::vector<Tri> tris;          // real and ghost triangles, all live
+  std::vector<Tri> tris;                        // real and ghost triangles, all live
   static constexpr std::size_t kMaxPoints = (std::size_t{1} << 28) - 16;
 
  private:

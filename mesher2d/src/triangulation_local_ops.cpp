@@ -11,7 +11,9 @@
 namespace uvmesh::m2d::detail {
 
 namespace {
-inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) { return pred::orient2d(&a.x, &b.x, &c.x); }
+inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return pred::orient2d(&a.x, &b.x, &c.x);
+}
 }  // namespace
 
 bool Triangulation::collapse_edge(VertId v, VertId u, Vec2 p) {
@@ -71,7 +73,8 @@ bool Triangulation::collapse_edge(VertId v, VertId u, Vec2 p) {
     int k = 0;
     while (tv[3 * b + k] != v) ++k;
     const VertId w = tv[3 * b + next3(k)];
-    if (w != u && w != x && w != y && std::find(nbu.begin(), nbu.end(), w) != nbu.end()) return false;
+    if (w != u && w != x && w != y && std::find(nbu.begin(), nbu.end(), w) != nbu.end())
+      return false;
   }
   // Orientation of every surviving triangle with u at p (those of v become u's).
   for (const TriId b : ball) {
@@ -127,8 +130,8 @@ VertId Triangulation::split_edge(std::int32_t h, Vec2 p) {
   // t = (c, a, b) seen from edge i, u = (d, b, a).
   const VertId c = tv[3 * t + i], a = tv[3 * t + next3(i)], b = tv[3 * t + prev3(i)];
   const VertId d = tv[3 * u + j];
-  if (orient(pts[c], pts[a], p) <= 0 || orient(pts[c], p, pts[b]) <= 0 || orient(pts[d], pts[b], p) <= 0 ||
-      orient(pts[d], p, pts[a]) <= 0)
+  if (orient(pts[c], pts[a], p) <= 0 || orient(pts[c], p, pts[b]) <= 0 ||
+      orient(pts[d], pts[b], p) <= 0 || orient(pts[d], p, pts[a]) <= 0)
     return kNone;
   const VertId m = add_vertex(p);
   const std::int32_t n_bc = opp[3 * t + next3(i)], s_bc = seg[3 * t + next3(i)];

@@ -29,7 +29,8 @@ Curvature principal_curvatures(const geom::SurfacePoint& e) {
   const double a2 = M - ka * F, b2 = N - ka * G;  // row 2
   geom::Vec2 w;
   const double s1 = a1 * a1 + b1 * b1, s2 = a2 * a2 + b2 * b2;
-  const double scale = std::abs(L) + std::abs(M) + std::abs(N) + std::abs(ka) * (E + std::abs(F) + G);
+  const double scale =
+      std::abs(L) + std::abs(M) + std::abs(N) + std::abs(ka) * (E + std::abs(F) + G);
   if (std::max(s1, s2) <= 1e-24 * scale * scale) {
     w = {1.0, 0.0};  // umbilic: every direction is principal
   } else if (s1 >= s2) {

@@ -8,7 +8,8 @@
 namespace uvmesh::param {
 
 double chordal_size(double rho, double eps) {
-  if (!(eps > 0.0) || !std::isfinite(rho) || eps >= rho) return std::numeric_limits<double>::infinity();
+  if (!(eps > 0.0) || !std::isfinite(rho) || eps >= rho)
+    return std::numeric_limits<double>::infinity();
   return 2.0 * std::sqrt(eps * (2.0 * rho - eps));
 }
 
@@ -20,8 +21,10 @@ double angle_size(double rho, double theta) {
 namespace {
 
 double curvature_size(double k, const SizeSpec& spec) {
-  const double rho = std::abs(k) > 0.0 ? 1.0 / std::abs(k) : std::numeric_limits<double>::infinity();
-  return std::min({spec.hmax, chordal_size(rho, spec.chordal_tol), angle_size(rho, spec.angle_tol)});
+  const double rho =
+      std::abs(k) > 0.0 ? 1.0 / std::abs(k) : std::numeric_limits<double>::infinity();
+  return std::min(
+      {spec.hmax, chordal_size(rho, spec.chordal_tol), angle_size(rho, spec.angle_tol)});
 }
 
 double clamp_size(double h, const SizeSpec& spec) {
@@ -40,7 +43,8 @@ Metric3 curvature_metric(const Curvature& c, const SizeSpec& spec) {
   return m.capped(spec.max_anisotropy);
 }
 
-Metric3 surface_metric(const geom::Surface& s, double u, double v, const SizeSpec& spec, geom::Id face) {
+Metric3 surface_metric(const geom::Surface& s, double u, double v, const SizeSpec& spec,
+                       geom::Id face) {
   return surface_metric(s.eval(u, v), spec, face);
 }
 
@@ -51,7 +55,8 @@ Metric3 surface_metric(const geom::SurfacePoint& e, const SizeSpec& spec, geom::
       m = intersect(m, Metric3::isotropic(clamp_size(it->second, spec)));
   }
   for (const PointSize& ps : spec.point_size)
-    if (glm::length(e.p - ps.p) <= ps.radius) m = intersect(m, Metric3::isotropic(clamp_size(ps.h, spec)));
+    if (glm::length(e.p - ps.p) <= ps.radius)
+      m = intersect(m, Metric3::isotropic(clamp_size(ps.h, spec)));
   return m;
 }
 
@@ -68,7 +73,8 @@ Metric2 induced_metric(const Metric3& m3, const geom::SurfacePoint& e, const Siz
   {
     const double tr = r.m[0][0] + r.m[1][1], det = r.determinant();
     const double a2 = spec.max_uv_anisotropy * spec.max_uv_anisotropy;
-    if (tr > 0 && det > 0 && std::isfinite(tr) && det * (a2 + 1) * (a2 + 1) >= tr * tr * a2) return r;
+    if (tr > 0 && det > 0 && std::isfinite(tr) && det * (a2 + 1) * (a2 + 1) >= tr * tr * a2)
+      return r;
   }
   Eigen<2> eg = r.eigen();
   if (!(eg.values[1] > 0.0)) {
@@ -113,7 +119,8 @@ int gradate(std::vector<Metric3>& metrics, const std::vector<geom::Vec3>& points
     queued[static_cast<std::size_t>(i)] = 0;
     const Metric3& mi = metrics[static_cast<std::size_t>(i)];
     for (int j : adj[static_cast<std::size_t>(i)]) {
-      const geom::Vec3 d = points[static_cast<std::size_t>(j)] - points[static_cast<std::size_t>(i)];
+      const geom::Vec3 d =
+          points[static_cast<std::size_t>(j)] - points[static_cast<std::size_t>(i)];
       const double eta = 1.0 + (beta - 1.0) * mi.length(d);
       const Metric3 grown = mi * (1.0 / (eta * eta));
       Metric3& mj = metrics[static_cast<std::size_t>(j)];
@@ -143,8 +150,8 @@ int gradate(std::vector<Metric3>& metrics, const std::vector<geom::Vec3>& points
   return updates;
 }
 
-FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, const SizeSpec& spec, geom::Id face,
-                             int n)
+FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, const SizeSpec& spec,
+                             geom::Id face, int n)
     : s_(s), box_(box), spec_(spec), n_(std::max(n, 2)) {
   // The gradated grid itself is not kept: only its M^{-1/2} is interpolated, and a model
   // holds one field per face until its faces are meshed (bench/memory).
@@ -198,7 +205,8 @@ FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, cons
 
 Metric3 FaceSizeField::metric3(double u, double v) const {
   auto cell = [&](const geom::Interval& r, double x, int& k, double& t) {
-    const double s = std::clamp((x - r.lo) / (r.length() > 0 ? r.length() : 1.0), 0.0, 1.0) * (n_ - 1);
+    const double s =
+        std::clamp((x - r.lo) / (r.length() > 0 ? r.length() : 1.0), 0.0, 1.0) * (n_ - 1);
     k = std::min(static_cast<int>(s), n_ - 2);
     t = s - k;
   };
@@ -206,23 +214,31 @@ Metric3 FaceSizeField::metric3(double u, double v) const {
   double tu, tv;
   cell(box_.u, u, i, tu);
   cell(box_.v, v, j, tv);
-  auto g = [&](int a, int b) -> const Metric3& { return grid_inv_sqrt_[static_cast<std::size_t>(a * n_ + b)]; };
+  auto g = [&](int a, int b) -> const Metric3& {
+    return grid_inv_sqrt_[static_cast<std::size_t>(a * n_ + b)];
+  };
   // Bilinear interpolation of M^{-1/2} (sizes), as in interpolate().
-  const Metric3 s = g(i, j) * ((1 - tu) * (1 - tv)) + g(i + 1, j) * (tu * (1 - tv)) + g(i, j + 1) * ((1 - tu) * tv) +
-                    g(i + 1, j + 1) * (tu * tv);
+  const Metric3 s = g(i, j) * ((1 - tu) * (1 - tv)) + g(i + 1, j) * (tu * (1 - tv)) +
+                    g(i, j + 1) * ((1 - tu) * tv) + g(i + 1, j + 1) * (tu * tv);
   // M = S^-2 = (S^-1)^2, S symmetric positive definite (a convex combination of such):
   // the inverse by cofactors, squared, instead of an eigen-decomposition and three
   // powers (metric3 is asked for at every node of every (u,v) metric grid).
   const auto& a = s.m;
-  const double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1], c01 = a[0][2] * a[2][1] - a[0][1] * a[2][2],
-               c02 = a[0][1] * a[1][2] - a[0][2] * a[1][1], c11 = a[0][0] * a[2][2] - a[0][2] * a[2][0],
-               c12 = a[0][2] * a[1][0] - a[0][0] * a[1][2], c22 = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+  const double c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1],
+               c01 = a[0][2] * a[2][1] - a[0][1] * a[2][2],
+               c02 = a[0][1] * a[1][2] - a[0][2] * a[1][1],
+               c11 = a[0][0] * a[2][2] - a[0][2] * a[2][0],
+               c12 = a[0][2] * a[1][0] - a[0][0] * a[1][2],
+               c22 = a[0][0] * a[1][1] - a[0][1] * a[1][0];
   const double det = s.determinant();
   if (!(det > 0) || !std::isfinite(det)) return s.power(-2.0);
-  const double inv[3][3] = {{c00 / det, c01 / det, c02 / det}, {c01 / det, c11 / det, c12 / det}, {c02 / det, c12 / det, c22 / det}};
+  const double inv[3][3] = {{c00 / det, c01 / det, c02 / det},
+                            {c01 / det, c11 / det, c12 / det},
+                            {c02 / det, c12 / det, c22 / det}};
   Metric3 r;
   for (int x = 0; x < 3; ++x)
-    for (int y = 0; y < 3; ++y) r.m[x][y] = inv[x][0] * inv[0][y] + inv[x][1] * inv[1][y] + inv[x][2] * inv[2][y];
+    for (int y = 0; y < 3; ++y)
+      r.m[x][y] = inv[x][0] * inv[0][y] + inv[x][1] * inv[1][y] + inv[x][2] * inv[2][y];
   r.symmetrize();
   return r;
 }

@@ -14,6 +14,8 @@
 // Errors: one line on stderr, exit status 1, and no output file (the model is written to
 // a temporary file beside OUT, which is renamed only once complete). The STEP header has a
 // fixed time stamp, so the output is the same on every run.
+#include <unistd.h>
+
 #include <APIHeaderSection_MakeHeader.hxx>
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
@@ -47,27 +49,24 @@
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Shell.hxx>
-#include <gp_Ax2.hxx>
-#include <gp_Circ.hxx>
-#include <gp_Pnt.hxx>
-#include <gp_Vec.hxx>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <gp_Ax2.hxx>
+#include <gp_Circ.hxx>
+#include <gp_Pnt.hxx>
+#include <gp_Vec.hxx>
 #include <iostream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 #include <vector>
 
-#include <unistd.h>
-
 namespace {
 
 // Dimensions (mm).
-constexpr double kT = 8.0;            // plate thickness
+constexpr double kT = 8.0;             // plate thickness
 constexpr double kBaseLength = 100.0;  // base plate along x
 constexpr double kWidth = 60.0;        // both plates along y
 constexpr double kHeight = 70.0;       // upright plate along z
@@ -77,17 +76,20 @@ constexpr double kHoleD = 9.0;         // base plate holes (M8 clearance)
 constexpr double kCboreD = 16.0, kCboreDepth = 4.0;
 constexpr double kUprightHoleD = 8.0;  // upright plate holes
 constexpr double kRimBreak = 1.0;      // fillet on the upright holes' outer rims
-constexpr double kSlotW = 10.0, kSlotZ0 = 25.0, kSlotZ1 = 55.0;  // slot: width, extent in z (ends included)
+constexpr double kSlotW = 10.0, kSlotZ0 = 25.0,
+                 kSlotZ1 = 55.0;  // slot: width, extent in z (ends included)
 constexpr double kTol = 1e-6;
 
-bool near(double a, double b) { return std::abs(a - b) < kTol; }
+bool near(double a, double b) {
+  return std::abs(a - b) < kTol;
+}
 
 using EdgeTest = std::function<bool(const TopoDS_Edge&)>;
 
 // The distinct edges of `s` that pass `test`; exactly `expected` of them, else an error
 // naming `what` (a model change that moves an edge must not silently skip a fillet).
-std::vector<TopoDS_Edge> edges_where(const TopoDS_Shape& s, const EdgeTest& test, std::size_t expected,
-                                     const char* what) {
+std::vector<TopoDS_Edge> edges_where(const TopoDS_Shape& s, const EdgeTest& test,
+                                     std::size_t expected, const char* what) {
   TopTools_IndexedMapOfShape map;
   TopExp::MapShapes(s, TopAbs_EDGE, map);
   std::vector<TopoDS_Edge> out;
@@ -96,8 +98,8 @@ std::vector<TopoDS_Edge> edges_where(const TopoDS_Shape& s, const EdgeTest& test
     if (!BRep_Tool::Degenerated(e) && test(e)) out.push_back(e);
   }
   if (out.size() != expected)
-    throw std::runtime_error(std::string("found ") + std::to_string(out.size()) + " edges for " + what +
-                             ", expected " + std::to_string(expected));
+    throw std::runtime_error(std::string("found ") + std::to_string(out.size()) + " edges for " +
+                             what + ", expected " + std::to_string(expected));
   return out;
 }
 
@@ -131,7 +133,8 @@ EdgeTest circle_at(const gp_Pnt& centre, double r) {
 
 TopoDS_Shape checked(BRepAlgoAPI_BooleanOperation& op, const char* what) {
   op.Build();
-  if (!op.IsDone() || op.HasErrors()) throw std::runtime_error(std::string("boolean operation failed: ") + what);
+  if (!op.IsDone() || op.HasErrors())
+    throw std::runtime_error(std::string("boolean operation failed: ") + what);
   return op.Shape();
 }
 
@@ -148,7 +151,8 @@ TopoDS_Shape cut(const TopoDS_Shape& a, const TopoDS_Shape& tool, const char* wh
   return checked(op, what);
 }
 
-TopoDS_Shape fillet(const TopoDS_Shape& s, const std::vector<std::pair<double, std::vector<TopoDS_Edge>>>& sets,
+TopoDS_Shape fillet(const TopoDS_Shape& s,
+                    const std::vector<std::pair<double, std::vector<TopoDS_Edge>>>& sets,
                     const char* what) {
   BRepFilletAPI_MakeFillet mk(s);
   for (const auto& [r, edges] : sets)
@@ -172,11 +176,13 @@ TopoDS_Shape x_cylinder(double y, double z, double d) {
 // x = -1, centred on y = yc, from z0 to z1 (ends included), extruded through the plate.
 TopoDS_Shape slot_cutter(double yc, double z0, double z1, double w) {
   const double r = w / 2, x = -1.0;
-  const gp_Pnt a(x, yc - r, z0 + r), b(x, yc - r, z1 - r), c(x, yc + r, z1 - r), d(x, yc + r, z0 + r);
+  const gp_Pnt a(x, yc - r, z0 + r), b(x, yc - r, z1 - r), c(x, yc + r, z1 - r),
+      d(x, yc + r, z0 + r);
   const Handle(Geom_TrimmedCurve) top = GC_MakeArcOfCircle(b, gp_Pnt(x, yc, z1), c).Value();
   const Handle(Geom_TrimmedCurve) bottom = GC_MakeArcOfCircle(d, gp_Pnt(x, yc, z0), a).Value();
-  BRepBuilderAPI_MakeWire wire(BRepBuilderAPI_MakeEdge(a, b).Edge(), BRepBuilderAPI_MakeEdge(top).Edge(),
-                               BRepBuilderAPI_MakeEdge(c, d).Edge(), BRepBuilderAPI_MakeEdge(bottom).Edge());
+  BRepBuilderAPI_MakeWire wire(
+      BRepBuilderAPI_MakeEdge(a, b).Edge(), BRepBuilderAPI_MakeEdge(top).Edge(),
+      BRepBuilderAPI_MakeEdge(c, d).Edge(), BRepBuilderAPI_MakeEdge(bottom).Edge());
   if (!wire.IsDone()) throw std::runtime_error("slot outline is not a closed wire");
   BRepBuilderAPI_MakeFace face(wire.Wire(), /*OnlyPlane=*/true);
   if (!face.IsDone()) throw std::runtime_error("slot outline is not a planar face");
@@ -185,8 +191,10 @@ TopoDS_Shape slot_cutter(double yc, double z0, double z1, double w) {
 
 TopoDS_Shape build_bracket() {
   // The L: base plate and upright plate, fused into one solid.
-  const TopoDS_Shape base = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(kBaseLength, kWidth, kT)).Shape();
-  const TopoDS_Shape upright = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(kT, kWidth, kHeight)).Shape();
+  const TopoDS_Shape base =
+      BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(kBaseLength, kWidth, kT)).Shape();
+  const TopoDS_Shape upright =
+      BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(kT, kWidth, kHeight)).Shape();
   TopoDS_Shape s = fuse(base, upright, "base plate + upright plate");
 
   // Bend (inside and outside, concentric) and the free corners of both plates.
@@ -209,10 +217,12 @@ TopoDS_Shape build_bracket() {
   const double hy0 = 14, hy1 = kWidth - 14, hz = 52;
   s = cut(s, x_cylinder(hy0, hz, kUprightHoleD), "upright hole y=14");
   s = cut(s, x_cylinder(hy1, hz, kUprightHoleD), "upright hole y=46");
-  s = fillet(s,
-             {{kRimBreak, edges_where(s, circle_at(gp_Pnt(0, hy0, hz), kUprightHoleD / 2), 1, "rim y=14")},
-              {kRimBreak, edges_where(s, circle_at(gp_Pnt(0, hy1, hz), kUprightHoleD / 2), 1, "rim y=46")}},
-             "upright hole rims");
+  s = fillet(
+      s,
+      {{kRimBreak, edges_where(s, circle_at(gp_Pnt(0, hy0, hz), kUprightHoleD / 2), 1, "rim y=14")},
+       {kRimBreak,
+        edges_where(s, circle_at(gp_Pnt(0, hy1, hz), kUprightHoleD / 2), 1, "rim y=46")}},
+      "upright hole rims");
   return s;
 }
 
@@ -228,10 +238,12 @@ void check_model(const TopoDS_Shape& s) {
   TopExp::MapShapes(s, TopAbs_FACE, fmap);
   faces = fmap.Extent();
   if (solids != 1 || shells != 1)
-    throw std::runtime_error("expected 1 solid with 1 shell, got " + std::to_string(solids) + " solids, " +
-                             std::to_string(shells) + " shells");
-  if (faces < 20 || faces > 60) throw std::runtime_error("unexpected face count " + std::to_string(faces));
-  if (!BRepCheck_Analyzer(s).IsValid()) throw std::runtime_error("BRepCheck reports an invalid shape");
+    throw std::runtime_error("expected 1 solid with 1 shell, got " + std::to_string(solids) +
+                             " solids, " + std::to_string(shells) + " shells");
+  if (faces < 20 || faces > 60)
+    throw std::runtime_error("unexpected face count " + std::to_string(faces));
+  if (!BRepCheck_Analyzer(s).IsValid())
+    throw std::runtime_error("BRepCheck reports an invalid shape");
   GProp_GProps props;
   BRepGProp::VolumeProperties(s, props);
   const double plates = kBaseLength * kWidth * kT + kT * kWidth * (kHeight - kT);
@@ -243,16 +255,19 @@ void check_model(const TopoDS_Shape& s) {
 void write_step(const TopoDS_Shape& s, const std::string& path, const std::string& shown) {
   STEPControl_Controller::Init();
   if (!Interface_Static::SetCVal("write.step.schema", "AP214IS") ||
-      !Interface_Static::SetCVal("write.step.unit", "MM") || !Interface_Static::SetCVal("xstep.cascade.unit", "MM") ||
+      !Interface_Static::SetCVal("write.step.unit", "MM") ||
+      !Interface_Static::SetCVal("xstep.cascade.unit", "MM") ||
       !Interface_Static::SetCVal("write.step.product.name", "bracket"))
     throw std::runtime_error("cannot set the STEP writer parameters");
   STEPControl_Writer writer;
-  if (writer.Transfer(s, STEPControl_AsIs) != IFSelect_RetDone) throw std::runtime_error("STEP transfer failed");
+  if (writer.Transfer(s, STEPControl_AsIs) != IFSelect_RetDone)
+    throw std::runtime_error("STEP transfer failed");
   APIHeaderSection_MakeHeader header(writer.Model());
   header.SetName(new TCollection_HAsciiString("bracket"));
   header.SetTimeStamp(new TCollection_HAsciiString("2024-01-01T00:00:00"));
   header.SetOriginatingSystem(new TCollection_HAsciiString("uvmesh make_bracket"));
-  if (writer.Write(path.c_str()) != IFSelect_RetDone) throw std::runtime_error("cannot write " + shown + " (missing folder or no permission?)");
+  if (writer.Write(path.c_str()) != IFSelect_RetDone)
+    throw std::runtime_error("cannot write " + shown + " (missing folder or no permission?)");
 }
 
 }  // namespace

@@ -203,17 +203,18 @@ int run_check(const CheckFlags& f) {
             << " close point pairs" << (t.watertight() ? "; watertight" : "") << "\n";
   if (d.intersections)
     std::cout << "self-intersections: " << d.intersections->intersecting_pairs << " triangle pairs"
-              << (d.intersections_in_model
-                      ? " (" + std::to_string(*d.intersections_in_model) + " where the model's own surfaces intersect)"
-                      : std::string())
+              << (d.intersections_in_model ? " (" + std::to_string(*d.intersections_in_model) +
+                                                 " where the model's own surfaces intersect)"
+                                           : std::string())
               << "\n";
   // A solid's own triangles, what a volume mesher fills: a stray sheet or a second body
   // crossing it is counted above but not here.
   constexpr std::size_t kMaxSolidLines = 20;
   for (std::size_t k = 0; k < d.solids.size() && k < kMaxSolidLines; ++k) {
     const auto& s = d.solids[k];
-    std::cout << "solid " << s.solid << (s.closed ? "" : " (open in the model)") << ": " << s.triangles
-              << " triangles, " << s.free_edges << " free, " << s.non_manifold_edges << " non-manifold edges";
+    std::cout << "solid " << s.solid << (s.closed ? "" : " (open in the model)") << ": "
+              << s.triangles << " triangles, " << s.free_edges << " free, " << s.non_manifold_edges
+              << " non-manifold edges";
     if (s.self_intersections)
       std::cout << ", " << *s.self_intersections << " self-intersections ("
                 << s.self_intersections_in_model.value_or(0) << " in the model)";

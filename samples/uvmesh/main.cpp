@@ -6,23 +6,22 @@
 // Exit codes: 0 success, 2 the model could not be read (one line on stderr naming the
 // file and the defect), 1 command-line errors.
 #include <CLI/CLI.hpp>
-
 #include <iostream>
 #include <string>
 
+#include "check_cmd.h"
+#include "mesh_cmd.h"
+#include "read_flags.h"
 #include "uvmesh/geom/model.h"
 #include "uvmesh/io/cad_reader.h"
 #include "uvmesh/io/info.h"
 #include "uvmesh/io/units.h"
-#include "check_cmd.h"
-#include "mesh_cmd.h"
-#include "read_flags.h"
 
 namespace {
 
-using uvmesh::cli::ReadFlags;
 using uvmesh::cli::add_read_flags;
 using uvmesh::cli::read_options;
+using uvmesh::cli::ReadFlags;
 
 int run_info(const ReadFlags& f, bool json) {
   const uvmesh::io::ReadOptions opt = read_options(f);
@@ -32,8 +31,10 @@ int run_info(const ReadFlags& f, bool json) {
     return 2;
   }
   const uvmesh::geom::ModelStats s = uvmesh::geom::compute_stats(r.model);
-  if (json) std::cout << uvmesh::io::info_json(r.model, s, r.report, opt.heal) << "\n";
-  else std::cout << uvmesh::io::info_text(r.model, s, r.report, opt.heal);
+  if (json)
+    std::cout << uvmesh::io::info_json(r.model, s, r.report, opt.heal) << "\n";
+  else
+    std::cout << uvmesh::io::info_text(r.model, s, r.report, opt.heal);
   return 0;
 }
 
@@ -45,7 +46,8 @@ int main(int argc, char** argv) {
 
   ReadFlags info_flags;
   bool info_json = false;
-  CLI::App* info = app.add_subcommand("info", "describe a CAD model: topology, geometry kinds, defects, healing");
+  CLI::App* info = app.add_subcommand(
+      "info", "describe a CAD model: topology, geometry kinds, defects, healing");
   add_read_flags(info, info_flags);
   info->add_flag("--json", info_json, "machine-readable JSON on stdout");
 
@@ -60,7 +62,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success))
+      return app.exit(e);  // --help
     std::cerr << "uvmesh: error: " << e.what() << "\n";
     return 1;
   }

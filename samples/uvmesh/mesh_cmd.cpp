@@ -34,7 +34,9 @@ namespace uvmesh::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 // "ID=H" -> (ID, H); false when malformed.
 bool parse_id_size(const std::string& s, geom::Id& id, double& h) {
@@ -82,7 +84,8 @@ bool read_size_file(const std::string& path, param::SizeSpec& spec, std::string&
 
 bool has_obj_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return std::tolower(ch); });
   return ext == ".obj";
 }
 
@@ -117,7 +120,8 @@ std::string check_flags(const MeshFlags& f, const io::WriteOptions& wo) {
     }
   if (!wo.format && !io::format_from_path(f.out))
     return f.out + ": unknown mesh extension (known: " + io::known_mesh_extensions() + ")";
-  if (!f.report.empty() && f.report == f.out) return f.out + ": given both as the mesh and as the report";
+  if (!f.report.empty() && f.report == f.out)
+    return f.out + ": given both as the mesh and as the report";
   if (std::string e = check_writable(f.out); !e.empty()) return e;
   if (!f.report.empty())
     if (std::string e = check_writable(f.report); !e.empty()) return e;
@@ -134,11 +138,12 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
       "per 2 pi), --chordal D/1000, --grad 1.3, isotropic sizes. Giving --angle or --chordal\n"
       "replaces both curvature defaults (the other is then off unless also given).");
   add_read_flags(c, f.read);
-  c->add_option("-o,--output", f.out, "output mesh; the extension picks the format (" +
-                                          io::known_mesh_extensions() + ")")
+  c->add_option("-o,--output", f.out,
+                "output mesh; the extension picks the format (" + io::known_mesh_extensions() + ")")
       ->required();
   c->add_option("--hmax", f.hmax, "largest element size (model units)")->check(finite_positive());
-  c->add_option("--hmax-rel", f.hmax_rel, "largest element size as a fraction of D")->check(finite_positive());
+  c->add_option("--hmax-rel", f.hmax_rel, "largest element size as a fraction of D")
+      ->check(finite_positive());
   c->add_option("--hmin", f.hmin, "smallest element size")->check(finite_positive());
   c->add_option("--chordal", f.chordal, "maximum distance between the mesh and the surface")
       ->check(finite_positive());
@@ -147,13 +152,16 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_option("--grad", f.grad, "gradation: neighbouring sizes differ by at most this ratio")
       ->check(CLI::Range(1.0, 100.0));
   c->add_flag("--iso", f.iso, "isotropic curvature sizes (the default)");
-  c->add_option("--aniso", f.aniso, "anisotropic curvature sizes, stretch ratio at most R (e.g. 10)")
+  c->add_option("--aniso", f.aniso,
+                "anisotropic curvature sizes, stretch ratio at most R (e.g. 10)")
       ->check(CLI::Range(1.0, 1e4));
   c->add_option("--face-size", f.face_size, "local size on a face: ID=H (repeatable)");
   c->add_option("--edge-size", f.edge_size, "local size on an edge: ID=H (repeatable)");
   c->add_option("--sizes", f.size_file, "file of local sizes, lines 'face ID H' or 'edge ID H'");
-  c->add_option("--threads", f.threads, "worker threads (default: all cores)")->check(CLI::Range(0, 4096));
-  c->add_option("--report", f.report, "write a JSON report (counts, times, quality, chordal, topology)");
+  c->add_option("--threads", f.threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(0, 4096));
+  c->add_option("--report", f.report,
+                "write a JSON report (counts, times, quality, chordal, topology)");
   c->add_flag("--allow-holes", f.allow_holes, "exit 0 even when some faces could not be meshed");
   c->add_flag("--no-optimize3d", f.no_optimize3d, "skip the 3D swaps and smoothing");
   c->add_option("--face-time-limit", f.face_time_limit,
@@ -164,10 +172,13 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_flag("--no-selfint", f.no_selfint, "skip the self-intersection check of the report");
   c->add_flag("-q,--quiet", f.quiet, "no summary line");
   add_write_flags(c, f.write);
-  c->add_option("--scheme", f.scheme, "subdivision scheme of an .obj control cage (auto: loop when all faces are triangles)")
+  c->add_option(
+       "--scheme", f.scheme,
+       "subdivision scheme of an .obj control cage (auto: loop when all faces are triangles)")
       ->check(CLI::IsMember({"auto", "catmark", "loop"}));
   c->add_option("--boundary-interp", f.boundary_interp,
-                "boundary interpolation of an .obj cage (file: its 'interpolateboundary' tag, else edge-only)")
+                "boundary interpolation of an .obj cage (file: its 'interpolateboundary' tag, else "
+                "edge-only)")
       ->check(CLI::IsMember({"file", "none", "edge-only", "edge-and-corner"}));
   return c;
 }
@@ -212,7 +223,8 @@ int run_mesh(const MeshFlags& f) {
   if (f.hmin > 0) o.size.hmin = f.hmin;
   if (f.hmin > 0 && f.hmin > o.size.hmax) {
     // Only the default hmin (D/1000) gives way to a small hmax; an explicit one is an error.
-    std::cerr << "uvmesh: error: --hmin " << f.hmin << " is larger than hmax " << o.size.hmax << "\n";
+    std::cerr << "uvmesh: error: --hmin " << f.hmin << " is larger than hmax " << o.size.hmax
+              << "\n";
     return 1;
   }
   o.size.hmin = std::min(o.size.hmin, o.size.hmax);
@@ -225,7 +237,8 @@ int run_mesh(const MeshFlags& f) {
     o.size.isotropic = false;
     o.size.max_anisotropy = f.aniso;
   }
-  for (const auto& [list, target] : {std::pair{&f.face_size, &o.size.face_size}, std::pair{&f.edge_size, &o.size.edge_size}})
+  for (const auto& [list, target] :
+       {std::pair{&f.face_size, &o.size.face_size}, std::pair{&f.edge_size, &o.size.edge_size}})
     for (const std::string& s : *list) {
       geom::Id id;
       double h;
@@ -244,14 +257,14 @@ int run_mesh(const MeshFlags& f) {
   }
   for (const auto& [id, h] : o.size.face_size)
     if (id >= static_cast<geom::Id>(model.faces.size())) {
-      std::cerr << "uvmesh: error: --face-size names face " << id << " but the model has " << model.faces.size()
-                << " faces\n";
+      std::cerr << "uvmesh: error: --face-size names face " << id << " but the model has "
+                << model.faces.size() << " faces\n";
       return 1;
     }
   for (const auto& [id, h] : o.size.edge_size)
     if (id >= static_cast<geom::Id>(model.edges.size())) {
-      std::cerr << "uvmesh: error: --edge-size names edge " << id << " but the model has " << model.edges.size()
-                << " edges\n";
+      std::cerr << "uvmesh: error: --edge-size names edge " << id << " but the model has "
+                << model.edges.size() << " edges\n";
       return 1;
     }
   o.threads = f.threads;
@@ -280,13 +293,16 @@ int run_mesh(const MeshFlags& f) {
     return 4;
   }
 
-  for (const auto& ff : r.failed) std::cerr << "uvmesh: face " << ff.face << " not meshed: " << ff.reason << "\n";
+  for (const auto& ff : r.failed)
+    std::cerr << "uvmesh: face " << ff.face << " not meshed: " << ff.reason << "\n";
   if (!f.quiet)
     for (const auto& d : r.degenerate)
-      std::cerr << "uvmesh: face " << d.face << " not meshed, degenerate in the model: " << d.reason << "\n";
+      std::cerr << "uvmesh: face " << d.face << " not meshed, degenerate in the model: " << d.reason
+                << "\n";
   if (!f.quiet)
     for (const auto& c : r.collapsed)
-      std::cerr << "uvmesh: face " << c.face << " not meshed, collapsed onto one curve: " << c.reason << "\n";
+      std::cerr << "uvmesh: face " << c.face
+                << " not meshed, collapsed onto one curve: " << c.reason << "\n";
 
   // ---- report
   std::size_t free_edges = 0, nonman = 0;
@@ -307,12 +323,10 @@ int run_mesh(const MeshFlags& f) {
     j["output"] = f.out;
     j["units"] = model.units;
     j["bbox_diagonal"] = D;
-    j["size"] = {{"hmax", o.size.hmax},
-                 {"hmin", o.size.hmin},
-                 {"chordal", o.size.chordal_tol},
-                 {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
-                 {"gradation", o.size.gradation},
-                 {"isotropic", o.size.isotropic}};
+    j["size"] = {
+        {"hmax", o.size.hmax},           {"hmin", o.size.hmin},
+        {"chordal", o.size.chordal_tol}, {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
+        {"gradation", o.size.gradation}, {"isotropic", o.size.isotropic}};
     j["counts"]["faces"] = model.faces.size();
     j["counts"]["edges"] = model.edges.size();
     j["counts"]["faces_failed"] = r.failed.size();
@@ -365,17 +379,20 @@ int run_mesh(const MeshFlags& f) {
   }
 
   if (!f.quiet) {
-    std::cerr << "uvmesh: " << f.out << ": " << r.mesh.points.size() << " points, " << r.mesh.triangles.size()
-              << " triangles, " << model.faces.size() - r.failed.size() - r.degenerate.size() - r.collapsed.size() << "/" << model.faces.size()
-              << " faces meshed in " << t_mesh << " s";
+    std::cerr << "uvmesh: " << f.out << ": " << r.mesh.points.size() << " points, "
+              << r.mesh.triangles.size() << " triangles, "
+              << model.faces.size() - r.failed.size() - r.degenerate.size() - r.collapsed.size()
+              << "/" << model.faces.size() << " faces meshed in " << t_mesh << " s";
     if (!r.degenerate.empty()) std::cerr << " (" << r.degenerate.size() << " degenerate)";
     if (!r.collapsed.empty()) std::cerr << " (" << r.collapsed.size() << " collapsed strips)";
-    if (!f.report.empty()) std::cerr << ", " << free_edges << " free / " << nonman << " non-manifold edges";
+    if (!f.report.empty())
+      std::cerr << ", " << free_edges << " free / " << nonman << " non-manifold edges";
     std::cerr << "\n";
   }
   if (!r.failed.empty() && !f.allow_holes) {
     std::cerr << "uvmesh: error: " << r.failed.size()
-              << " face(s) could not be meshed (the mesh was written with holes; --allow-holes accepts that)\n";
+              << " face(s) could not be meshed (the mesh was written with holes; --allow-holes "
+                 "accepts that)\n";
     return 3;
   }
   return 0;

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-
 #include <cmath>
 #include <string>
 
@@ -23,8 +22,9 @@ inline CLI::Validator finite_positive() {
         } catch (...) {
           used = 0;
         }
-        return used == s.size() && std::isfinite(v) && v > 0 ? std::string()
-                                                             : "expected a finite number > 0, found '" + s + "'";
+        return used == s.size() && std::isfinite(v) && v > 0
+                   ? std::string()
+                   : "expected a finite number > 0, found '" + s + "'";
       },
       "X>0");
 }
@@ -42,7 +42,9 @@ struct ReadFlags {
 };
 
 inline void add_read_flags(CLI::App* cmd, ReadFlags& f) {
-  cmd->add_option("MODEL", f.model, "STEP (.step/.stp), IGES (.igs/.iges) or BREP (.brep) file; `mesh` also takes an OBJ subdivision cage (.obj)")
+  cmd->add_option("MODEL", f.model,
+                  "STEP (.step/.stp), IGES (.igs/.iges) or BREP (.brep) file; `mesh` also takes an "
+                  "OBJ subdivision cage (.obj)")
       ->required();
   cmd->add_flag("--no-heal", f.no_heal, "use the model exactly as read (no ShapeFix, no sewing)");
   if (cmd->get_name() == "mesh") {
@@ -51,17 +53,21 @@ inline void add_read_flags(CLI::App* cmd, ReadFlags& f) {
     // duplicated facets): `mesh` makes models with two or more solids conforming unless
     // told not to. `info` describes the file as it is.
     f.conform = true;
-    cmd->add_flag("--conform,!--no-conform", f.conform,
-                  "make an assembly of two or more solids conforming: touching solids are imprinted "
-                  "(general fuse); default on for `mesh`, --no-conform keeps the solids as they are");
+    cmd->add_flag(
+        "--conform,!--no-conform", f.conform,
+        "make an assembly of two or more solids conforming: touching solids are imprinted "
+        "(general fuse); default on for `mesh`, --no-conform keeps the solids as they are");
   } else {
     cmd->add_flag("--conform", f.conform,
                   "make an assembly conforming: touching solids are imprinted (general fuse)");
   }
   cmd->add_flag("--any-extension", f.any_extension, "read by content when the extension disagrees");
-  cmd->add_flag("--no-check", f.no_check, "skip OCC's per-face validity check (BRepCheck), the slowest part of a load");
-  cmd->add_flag("--partial", f.partial, "import what can be resolved from a STEP file with dangling references");
-  cmd->add_option("--sew-tol", f.sew_rel_tol, "sewing tolerance relative to the bounding-box diagonal")
+  cmd->add_flag("--no-check", f.no_check,
+                "skip OCC's per-face validity check (BRepCheck), the slowest part of a load");
+  cmd->add_flag("--partial", f.partial,
+                "import what can be resolved from a STEP file with dangling references");
+  cmd->add_option("--sew-tol", f.sew_rel_tol,
+                  "sewing tolerance relative to the bounding-box diagonal")
       ->check(finite_positive());
   cmd->add_option("--sew-max-tol", f.sew_max_rel_tol,
                   "while free edges remain, sewing is retried at tenfold tolerances up to this one "
@@ -74,7 +80,8 @@ inline void add_read_flags(CLI::App* cmd, ReadFlags& f) {
       ->check(CLI::Validator(
           [](std::string& s) {
             return uvmesh::io::canonical_length_unit(s).empty()
-                       ? "unknown length unit '" + s + "' (known: " + uvmesh::io::known_length_units() + ")"
+                       ? "unknown length unit '" + s +
+                             "' (known: " + uvmesh::io::known_length_units() + ")"
                        : std::string();
           },
           "UNIT"));

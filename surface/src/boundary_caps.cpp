@@ -33,13 +33,15 @@ double gap_tolerance(const geom::Model& m, geom::Id edge) {
   const geom::Edge& e = m.edges[static_cast<std::size_t>(edge)];
   double t = e.tol;
   for (geom::Id v : {e.v0, e.v1})
-    if (v >= 0 && static_cast<std::size_t>(v) < m.vertices.size()) t = std::max(t, m.vertices[static_cast<std::size_t>(v)].tol);
+    if (v >= 0 && static_cast<std::size_t>(v) < m.vertices.size())
+      t = std::max(t, m.vertices[static_cast<std::size_t>(v)].tol);
   return t;
 }
 
 std::vector<double> edge_gap_floors(const geom::Model& m) {
   std::vector<double> g(m.edges.size());
-  for (std::size_t e = 0; e < g.size(); ++e) g[e] = kGapToleranceFactor * gap_tolerance(m, static_cast<geom::Id>(e));
+  for (std::size_t e = 0; e < g.size(); ++e)
+    g[e] = kGapToleranceFactor * gap_tolerance(m, static_cast<geom::Id>(e));
   return g;
 }
 
@@ -96,7 +98,8 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
       P.groups.push_back(g);
     }
   }
-  std::vector<std::vector<geom::Id>> face_edges(m.faces.size());  // distinct non-degenerate edges per face
+  std::vector<std::vector<geom::Id>> face_edges(
+      m.faces.size());  // distinct non-degenerate edges per face
   std::vector<std::vector<geom::Id>> edge_faces(m.edges.size());  // distinct faces per edge
   for (std::size_t f = 0; f < m.faces.size(); ++f)
     for (const geom::Loop& l : m.faces[f].loops)
@@ -119,11 +122,13 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
         if (static_cast<std::size_t>(oe) == e) continue;
         const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
         // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor).
-        Neighbour nb{oe, std::max(prox_floor_, kGapToleranceFactor * (self.tol + P.tol)), {false, false}};
+        Neighbour nb{
+            oe, std::max(prox_floor_, kGapToleranceFactor * (self.tol + P.tol)), {false, false}};
         if (!self.p.empty())
           for (int k = 0; k < 2; ++k) {
             const geom::Vec3& q = k == 0 ? P.p.front() : P.p.back();
-            nb.shares_end[k] = glm::length(q - self.p.front()) <= eps_ || glm::length(q - self.p.back()) <= eps_;
+            nb.shares_end[k] =
+                glm::length(q - self.p.front()) <= eps_ || glm::length(q - self.p.back()) <= eps_;
           }
         nbrs_[e].push_back(nb);
       }
@@ -209,7 +214,8 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
     }
   }
   // The gradation cap stops at hmin, the proximity cap at hmin / 100 (never above h).
-  return std::min({h, std::max(best, floor_), std::max(at_vertex, prox_floor_), std::max(prox, prox_floor_)});
+  return std::min(
+      {h, std::max(best, floor_), std::max(at_vertex, prox_floor_), std::max(prox, prox_floor_)});
 }
 
 }  // namespace uvmesh::surface::detail

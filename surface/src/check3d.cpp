@@ -533,7 +533,8 @@ bool triangles_intersect(const SurfaceMesh& m, TriId t0, TriId t1) {
 }
 
 std::vector<std::size_t> pairs_intersecting_in_model(const SurfaceMesh& m, const geom::Model& model,
-                                                     const std::vector<IntersectingPair>& pairs, int k) {
+                                                     const std::vector<IntersectingPair>& pairs,
+                                                     int k) {
   std::vector<std::size_t> out;
   if (m.triangle_uv.size() != m.triangles.size() || k < 1) return out;
   // The surface piece under triangle t: (k+1)(k+2)/2 points of a barycentric grid of its
@@ -544,16 +545,22 @@ std::vector<std::size_t> pairs_intersecting_in_model(const SurfaceMesh& m, const
     const geom::Surface& s = *model.faces[f].surface;
     const auto& uv = m.triangle_uv[static_cast<std::size_t>(t)];
     const auto base = static_cast<NodeId>(pc.points.size());
-    auto id = [&](int i, int j) { return base + static_cast<NodeId>(i * (k + 1) - i * (i - 1) / 2 + j); };
+    auto id = [&](int i, int j) {
+      return base + static_cast<NodeId>(i * (k + 1) - i * (i - 1) / 2 + j);
+    };
     for (int i = 0; i <= k; ++i)
       for (int j = 0; i + j <= k; ++j) {
-        const geom::Vec2 p = uv[0] + (uv[1] - uv[0]) * (double(i) / k) + (uv[2] - uv[0]) * (double(j) / k);
+        const geom::Vec2 p =
+            uv[0] + (uv[1] - uv[0]) * (double(i) / k) + (uv[2] - uv[0]) * (double(j) / k);
         const geom::Vec3 x = s.point(p.x, p.y);
         if (!std::isfinite(x.x + x.y + x.z)) return false;
         pc.points.push_back(x);
       }
     // Pieces touching the corner the two triangles share meet there by construction.
-    const NodeId skip = skip_corner == 0 ? id(0, 0) : skip_corner == 1 ? id(k, 0) : skip_corner == 2 ? id(0, k) : -1;
+    const NodeId skip = skip_corner == 0   ? id(0, 0)
+                        : skip_corner == 1 ? id(k, 0)
+                        : skip_corner == 2 ? id(0, k)
+                                           : -1;
     auto add = [&](std::array<NodeId, 3> T) {
       if (T[0] != skip && T[1] != skip && T[2] != skip) pc.triangles.push_back(T);
     };
@@ -569,7 +576,8 @@ std::vector<std::size_t> pairs_intersecting_in_model(const SurfaceMesh& m, const
     if (p.kind != PairKind::Disjoint && p.kind != PairKind::SharedVertex) continue;
     int c0 = -1, c1 = -1;
     if (p.kind == PairKind::SharedVertex) {
-      const auto &A = m.triangles[static_cast<std::size_t>(p.t0)], &B = m.triangles[static_cast<std::size_t>(p.t1)];
+      const auto &A = m.triangles[static_cast<std::size_t>(p.t0)],
+                 &B = m.triangles[static_cast<std::size_t>(p.t1)];
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
           if (A[a] == B[b]) c0 = a, c1 = b;
@@ -580,7 +588,8 @@ std::vector<std::size_t> pairs_intersecting_in_model(const SurfaceMesh& m, const
     if (!piece(p.t1, pc, c1)) continue;
     bool hit = false;
     for (TriId a = 0; a < split && !hit; ++a)
-      for (TriId b = split; b < static_cast<TriId>(pc.triangles.size()) && !hit; ++b) hit = triangles_intersect(pc, a, b);
+      for (TriId b = split; b < static_cast<TriId>(pc.triangles.size()) && !hit; ++b)
+        hit = triangles_intersect(pc, a, b);
     if (hit) out.push_back(n);
   }
   return out;
@@ -698,11 +707,13 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_
       double width = 0.0;
       if (!corner && narrow_gap > 0 && !m.point_dim.empty()) {
         bool on_edges = true;
-        for (NodeId i : m.triangles[t]) on_edges = on_edges && m.point_dim[i] <= 1 && m.point_dim[i] >= 0;
+        for (NodeId i : m.triangles[t])
+          on_edges = on_edges && m.point_dim[i] <= 1 && m.point_dim[i] >= 0;
         if (on_edges) {
           const pred3::Tri c = corners(m, t);
           const double area2 = glm::length(glm::cross(c[1] - c[0], c[2] - c[0]));
-          const double hmax = std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
+          const double hmax = std::max(
+              {glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
           double floor = narrow_gap;
           if (edge_gap && !m.point_entity.empty()) {
             // The two distinct edges the points lie on with the largest floor between them.
@@ -712,11 +723,13 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_
               const NodeId i = m.triangles[t][k];
               if (m.point_dim[i] != 1) continue;
               e[k] = m.point_entity[i];
-              if (e[k] >= 0 && static_cast<std::size_t>(e[k]) < edge_gap->size()) g[k] = (*edge_gap)[static_cast<std::size_t>(e[k])];
+              if (e[k] >= 0 && static_cast<std::size_t>(e[k]) < edge_gap->size())
+                g[k] = (*edge_gap)[static_cast<std::size_t>(e[k])];
             }
             for (int a = 0; a < 3; ++a)
               for (int b = a + 1; b < 3; ++b)
-                if (e[a] != geom::kNone && e[b] != geom::kNone && e[a] != e[b]) floor = std::max(floor, g[a] + g[b]);
+                if (e[a] != geom::kNone && e[b] != geom::kNone && e[a] != e[b])
+                  floor = std::max(floor, g[a] + g[b]);
           }
           width = area2 / hmax;
           gap = area2 < floor * hmax;

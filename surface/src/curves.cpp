@@ -2,10 +2,10 @@
 // discretized once, at unit length in the 3D metric along the curve. The metric along
 // an edge is the intersection of the curve's own curvature size and the metrics of the
 // faces around it, read through each use's pcurve at the same curve parameter.
-#include "internal.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "internal.h"
 
 namespace uvmesh::surface::detail {
 
@@ -18,7 +18,8 @@ double curve_size(const geom::CurvePoint3& c, const param::SizeSpec& spec) {
   const double s = glm::length(c.d1);
   const double k = s > 0 ? glm::length(glm::cross(c.d1, c.d2)) / (s * s * s) : 0.0;
   const double rho = k > 0 ? 1.0 / k : std::numeric_limits<double>::infinity();
-  return std::min({spec.hmax, param::chordal_size(rho, spec.chordal_tol), param::angle_size(rho, spec.angle_tol)});
+  return std::min({spec.hmax, param::chordal_size(rho, spec.chordal_tol),
+                   param::angle_size(rho, spec.angle_tol)});
 }
 
 }  // namespace
@@ -67,8 +68,9 @@ EdgeDiscretizer::EdgeDiscretizer(const geom::Model& m, const param::SizeSpec& sp
       for (const geom::EdgeUse& u : l.uses) {
         if (u.edge < 0 || !u.pcurve) continue;
         auto& list = adj_[static_cast<std::size_t>(u.edge)];
-        const bool seen = std::any_of(list.begin(), list.end(),
-                                      [&](const Adjacent& a) { return a.face == static_cast<geom::Id>(f); });
+        const bool seen = std::any_of(list.begin(), list.end(), [&](const Adjacent& a) {
+          return a.face == static_cast<geom::Id>(f);
+        });
         if (!seen) list.push_back({static_cast<geom::Id>(f), u.pcurve.get()});
       }
 }
@@ -105,7 +107,8 @@ std::vector<double> EdgeDiscretizer::discretize(geom::Id eid, const BoundaryCaps
       const double dt = s[i + 1].t - s[i].t;
       const double piece = 0.5 * (s[i].f + s[i + 1].f) * dt;
       const double fa = std::max(s[i].f, 1e-300), fb = std::max(s[i + 1].f, 1e-300);
-      if ((piece > 0.25 || std::max(fa / fb, fb / fa) > 2.0) && dt > (hi - lo) * 1e-9 && next.size() + s.size() < cap) {
+      if ((piece > 0.25 || std::max(fa / fb, fb / fa) > 2.0) && dt > (hi - lo) * 1e-9 &&
+          next.size() + s.size() < cap) {
         const double t = 0.5 * (s[i].t + s[i + 1].t);
         next.push_back(sample(t));
         split = true;
@@ -120,7 +123,8 @@ std::vector<double> EdgeDiscretizer::discretize(geom::Id eid, const BoundaryCaps
   const double beta = std::max(1.0, spec_.gradation);
   if (beta > 1.0) {
     std::vector<double> h(s.size()), ds(s.size(), 0.0);
-    for (std::size_t i = 0; i < s.size(); ++i) h[i] = s[i].f > 0 ? 1.0 / s[i].f : 0.0;  // parameter units
+    for (std::size_t i = 0; i < s.size(); ++i)
+      h[i] = s[i].f > 0 ? 1.0 / s[i].f : 0.0;  // parameter units
     for (std::size_t i = 1; i < s.size(); ++i) ds[i] = s[i].t - s[i - 1].t;
     // In parameter units a unit of arc is 1/speed; use the local speed at each sample.
     std::vector<double> speed(s.size());
@@ -130,13 +134,15 @@ std::vector<double> EdgeDiscretizer::discretize(geom::Id eid, const BoundaryCaps
         h[i] = std::min(h[i], (h[i - 1] * speed[i - 1] + (beta - 1) * ds[i] * speed[i]) / speed[i]);
     for (std::size_t i = s.size() - 1; i-- > 0;)
       if (h[i + 1] > 0 && h[i] > 0)
-        h[i] = std::min(h[i], (h[i + 1] * speed[i + 1] + (beta - 1) * ds[i + 1] * speed[i]) / speed[i]);
+        h[i] = std::min(h[i],
+                        (h[i + 1] * speed[i + 1] + (beta - 1) * ds[i + 1] * speed[i]) / speed[i]);
     for (std::size_t i = 0; i < s.size(); ++i)
       if (h[i] > 0) s[i].f = 1.0 / h[i];
   }
   // Cumulative metric length; trapezoid per piece.
   std::vector<double> cum(s.size(), 0.0);
-  for (std::size_t i = 1; i < s.size(); ++i) cum[i] = cum[i - 1] + 0.5 * (s[i - 1].f + s[i].f) * (s[i].t - s[i - 1].t);
+  for (std::size_t i = 1; i < s.size(); ++i)
+    cum[i] = cum[i - 1] + 0.5 * (s[i - 1].f + s[i].f) * (s[i].t - s[i - 1].t);
   const double L = cum.back();
   int n = std::max(1, static_cast<int>(std::lround(L)));
   const bool closed = e.v0 == e.v1 && e.v0 != geom::kNone;

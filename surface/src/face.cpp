@@ -32,8 +32,8 @@ double pcurve_param(const geom::Edge& e, const geom::EdgeUse& u, double t) {
 // How many: as many as the first ring of triangles around the pole will have, estimated
 // as the metric length of the pole side moved inward until sigma moves by about one
 // local size (on the side itself the induced metric is singular and capped).
-int pole_segments(const geom::EdgeUse& use, const geom::Surface& s, const param::FaceSizeField& field,
-                  const geom::Box2& box) {
+int pole_segments(const geom::EdgeUse& use, const geom::Surface& s,
+                  const param::FaceSizeField& field, const geom::Box2& box) {
   const geom::Vec2 a = use.pcurve->point(use.range.lo), b = use.pcurve->point(use.range.hi);
   const geom::Vec2 mid = 0.5 * (a + b);
   const geom::Vec2 centre{box.u.mid(), box.v.mid()};
@@ -89,9 +89,15 @@ int pole_segments(const geom::EdgeUse& use, const geom::Surface& s, const param:
 class UvMetricGrid {
  public:
   // nu x nv cells at the top level (see grid_cells).
-  UvMetricGrid(const param::FaceSizeField& field, const geom::Box2& box, unsigned singular_sides, int nu, int nv)
-      : field_(field), box_(box), singular_(singular_sides), nu_(nu), nv_(nv),
-        vals_(static_cast<std::size_t>((nu + 1) * (nv + 1))), has_(vals_.size(), 0),
+  UvMetricGrid(const param::FaceSizeField& field, const geom::Box2& box, unsigned singular_sides,
+               int nu, int nv)
+      : field_(field),
+        box_(box),
+        singular_(singular_sides),
+        nu_(nu),
+        nv_(nv),
+        vals_(static_cast<std::size_t>((nu + 1) * (nv + 1))),
+        has_(vals_.size(), 0),
         state_(static_cast<std::size_t>(nu * nv), kUnknown) {}
   m2d::Metric2 operator()(double u, double v) {
     const double fu = frac(box_.u, u), fv = frac(box_.v, v);
@@ -146,11 +152,12 @@ class UvMetricGrid {
     return it->second;
   }
   param::Metric2 exact(int level, double i, double j) const {
-    return field_.metric_uv(box_.u.at(i / static_cast<double>(nu_ << level)), box_.v.at(j / static_cast<double>(nv_ << level)));
+    return field_.metric_uv(box_.u.at(i / static_cast<double>(nu_ << level)),
+                            box_.v.at(j / static_cast<double>(nv_ << level)));
   }
   param::Metric2 bilinear(int level, int i, int j, double tu, double tv) {
-    const param::Metric2 &a = node(level, i, j), &b = node(level, i + 1, j), &c = node(level, i, j + 1),
-                         &d = node(level, i + 1, j + 1);
+    const param::Metric2 &a = node(level, i, j), &b = node(level, i + 1, j),
+                         &c = node(level, i, j + 1), &d = node(level, i + 1, j + 1);
     const double w00 = (1 - tu) * (1 - tv), w10 = tu * (1 - tv), w01 = (1 - tu) * tv, w11 = tu * tv;
     param::Metric2 m = a;
     for (int r = 0; r < 2; ++r)
@@ -167,18 +174,22 @@ class UvMetricGrid {
     // Cells on a singular side (a pole: a cone's apex, a sphere's) stay as they are: J
     // is singular there by construction and the mesher's pole handling expects the
     // smoothed field (splitting them made a fold at occt_cone_catia's apex).
-    if (((singular_ & geom::kSideUMin) && i == 0) || ((singular_ & geom::kSideUMax) && i == (nu_ << level) - 1) ||
-        ((singular_ & geom::kSideVMin) && j == 0) || ((singular_ & geom::kSideVMax) && j == (nv_ << level) - 1))
+    if (((singular_ & geom::kSideUMin) && i == 0) ||
+        ((singular_ & geom::kSideUMax) && i == (nu_ << level) - 1) ||
+        ((singular_ & geom::kSideVMin) && j == 0) ||
+        ((singular_ & geom::kSideVMax) && j == (nv_ << level) - 1))
       return false;
     const param::Metric2 mi = bilinear(level, i, j, 0.5, 0.5);
     const param::Metric2 me = exact(level, i + 0.5, j + 0.5);
     const double du = box_.u.length(), dv = box_.v.length();
     const double dirs[4][2] = {{du, 0}, {0, dv}, {du, dv}, {du, -dv}};
     for (const auto& d : dirs) {
-      const double li = mi(0, 0) * d[0] * d[0] + 2 * mi(0, 1) * d[0] * d[1] + mi(1, 1) * d[1] * d[1];
-      const double le = me(0, 0) * d[0] * d[0] + 2 * me(0, 1) * d[0] * d[1] + me(1, 1) * d[1] * d[1];
+      const double li =
+          mi(0, 0) * d[0] * d[0] + 2 * mi(0, 1) * d[0] * d[1] + mi(1, 1) * d[1] * d[1];
+      const double le =
+          me(0, 0) * d[0] * d[0] + 2 * me(0, 1) * d[0] * d[1] + me(1, 1) * d[1] * d[1];
       if (!(le > 0) || !(li > 0)) continue;  // a degenerate point: nothing to compare
-      const double r = li / le;                // squared ratio of lengths
+      const double r = li / le;              // squared ratio of lengths
       if (r > kTol * kTol || r < 1 / (kTol * kTol)) return true;
     }
     return false;
@@ -211,8 +222,8 @@ class UvMetricGrid {
 // (faces 1 and 4). A subdivision patch (SurfaceKind::Other) is one smooth polynomial
 // piece a few elements across, where the count from the speed is what saves the time.
 constexpr double kCellsPerUnit = 1.0;
-std::array<int, 2> grid_cells(const std::vector<param::Metric2>& samples, const geom::Box2& box, unsigned singular_sides,
-                              geom::SurfaceKind kind) {
+std::array<int, 2> grid_cells(const std::vector<param::Metric2>& samples, const geom::Box2& box,
+                              unsigned singular_sides, geom::SurfaceKind kind) {
   if (singular_sides != 0u || kind != geom::SurfaceKind::Other) return {64, 64};
   double su = 0, sv = 0;
   for (const param::Metric2& g : samples) {
@@ -242,7 +253,9 @@ struct EdgeUses {
     int a, b;  // a < b
     std::size_t t;
     int i;
-    bool operator<(const Use& o) const { return std::tie(a, b, t, i) < std::tie(o.a, o.b, o.t, o.i); }
+    bool operator<(const Use& o) const {
+      return std::tie(a, b, t, i) < std::tie(o.a, o.b, o.t, o.i);
+    }
   };
   std::vector<Use> recs;
   explicit EdgeUses(const LocalMesh& lm) {
@@ -255,7 +268,8 @@ struct EdgeUses {
     std::sort(recs.begin(), recs.end());
   }
   // [first, last) of edge a-b's records.
-  std::pair<std::vector<Use>::const_iterator, std::vector<Use>::const_iterator> of(int a, int b) const {
+  std::pair<std::vector<Use>::const_iterator, std::vector<Use>::const_iterator> of(int a,
+                                                                                   int b) const {
     const Use key{std::min(a, b), std::max(a, b), 0, 0};
     const auto lo = std::lower_bound(recs.begin(), recs.end(), key);
     auto hi = lo;
@@ -295,7 +309,8 @@ bool splits_in_3d(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& q)
 // Splits each edge of to_split (two uses, neither triangle split yet this round: touched)
 // at its (u,v) midpoint, 2 triangles to 4; returns the splits made.
 int split_edges_at_uv_midpoints(LocalMesh& lm, const geom::Surface& s, const EdgeUses& uses,
-                                const std::vector<std::pair<int, int>>& to_split, std::vector<char>& touched) {
+                                const std::vector<std::pair<int, int>>& to_split,
+                                std::vector<char>& touched) {
   int splits = 0;
   for (auto [a, b] : to_split) {
     const auto u = uses.of(a, b).first;
@@ -380,16 +395,21 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     const geom::Vec3 pc = (lm.p[T[0]] + lm.p[T[1]] + lm.p[T[2]]) / 3.0;
     double len[3];
     for (int i = 0; i < 3; ++i) len[i] = glm::length(lm.p[T[(i + 2) % 3]] - lm.p[T[(i + 1) % 3]]);
-    if (!deviates(pc, (lm.uv[T[0]] + lm.uv[T[1]] + lm.uv[T[2]]) / 3.0, std::max({len[0], len[1], len[2]}), nullptr)) continue;
+    if (!deviates(pc, (lm.uv[T[0]] + lm.uv[T[1]] + lm.uv[T[2]]) / 3.0,
+                  std::max({len[0], len[1], len[2]}), nullptr))
+      continue;
     int best = -1;
     for (int i = 0; i < 3; ++i)
       if (interior(T[(i + 1) % 3], T[(i + 2) % 3]) && (best < 0 || len[i] > len[best])) best = i;
-    if (best >= 0) to_split.push_back({T[(best + 1) % 3], T[(best + 2) % 3]});
-    else centroid_split.push_back(t);
+    if (best >= 0)
+      to_split.push_back({T[(best + 1) % 3], T[(best + 2) % 3]});
+    else
+      centroid_split.push_back(t);
   }
   uses.for_each_edge([&](int a, int b, std::size_t) {
     if (!interior(a, b)) return;
-    if (deviates(0.5 * (lm.p[a] + lm.p[b]), 0.5 * (lm.uv[a] + lm.uv[b]), glm::length(lm.p[b] - lm.p[a]), nullptr))
+    if (deviates(0.5 * (lm.p[a] + lm.p[b]), 0.5 * (lm.uv[a] + lm.uv[b]),
+                 glm::length(lm.p[b] - lm.p[a]), nullptr))
       to_split.push_back({a, b});
   });
   std::vector<char> touched(nt, 0);
@@ -402,13 +422,16 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     const geom::Vec3 pc = (lm.p[T[0]] + lm.p[T[1]] + lm.p[T[2]]) / 3.0;
     deviates(pc, uc, glm::length(lm.p[T[1]] - lm.p[T[0]]), &foot);
     // The foot, when it lies inside the (u,v) triangle; else the (u,v) centroid.
-    if (!ccw(lm.uv[T[0]], lm.uv[T[1]], foot) || !ccw(lm.uv[T[1]], lm.uv[T[2]], foot) || !ccw(lm.uv[T[2]], lm.uv[T[0]], foot))
+    if (!ccw(lm.uv[T[0]], lm.uv[T[1]], foot) || !ccw(lm.uv[T[1]], lm.uv[T[2]], foot) ||
+        !ccw(lm.uv[T[2]], lm.uv[T[0]], foot))
       foot = uc;
     {
       const geom::Vec3 q = s.point(foot.x, foot.y);
-      if (!splits_in_3d(lm.p[T[0]], lm.p[T[1]], q) || !splits_in_3d(lm.p[T[1]], lm.p[T[2]], q)) continue;
+      if (!splits_in_3d(lm.p[T[0]], lm.p[T[1]], q) || !splits_in_3d(lm.p[T[1]], lm.p[T[2]], q))
+        continue;
     }
-    const int n = add_local_point(lm, s, foot, (lm.scale[T[0]] + lm.scale[T[1]] + lm.scale[T[2]]) / 3.0);
+    const int n =
+        add_local_point(lm, s, foot, (lm.scale[T[0]] + lm.scale[T[1]] + lm.scale[T[2]]) / 3.0);
     if (n < 0) continue;
     lm.tris[t] = {T[0], T[1], n};
     lm.tris.push_back({T[1], T[2], n});
@@ -417,7 +440,6 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
   }
   return splits;
 }
-
 
 // A face whose (u,v) boundary is unusable -- its pcurves cross, two nodes coincide, the
 // loop runs clockwise -- after the crossing rounds of the mesher (mesher.cpp). In the CAD
@@ -435,8 +457,10 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
 constexpr std::size_t kMaxBoundaryTriangulation = 400;  // nodes; O(n^3) work
 
 bool triangulate_from_boundary(FaceMesh& out, const geom::Face& f, const geom::Surface& s,
-                               const std::vector<NodeId>& gid_in, const std::vector<geom::Vec2>& uv_in,
-                               const std::vector<geom::Vec3>& node_points, double chordal_tol, std::string* why) {
+                               const std::vector<NodeId>& gid_in,
+                               const std::vector<geom::Vec2>& uv_in,
+                               const std::vector<geom::Vec3>& node_points, double chordal_tol,
+                               std::string* why) {
   // The polygon: consecutive repeats of a node (a pole's run of (u,v) points) are one corner.
   std::vector<NodeId> g;
   std::vector<geom::Vec2> uv;
@@ -506,12 +530,16 @@ bool triangulate_from_boundary(FaceMesh& out, const geom::Face& f, const geom::S
     SurfaceMesh sm;
     std::map<NodeId, NodeId> local;
     for (std::size_t i = 0; i < n; ++i)
-      if (local.emplace(g[i], static_cast<NodeId>(sm.points.size())).second) sm.points.push_back(p[i]);
-    for (const auto& t : tris) sm.triangles.push_back({local[g[t[0]]], local[g[t[1]]], local[g[t[2]]]});
+      if (local.emplace(g[i], static_cast<NodeId>(sm.points.size())).second)
+        sm.points.push_back(p[i]);
+    for (const auto& t : tris)
+      sm.triangles.push_back({local[g[t[0]]], local[g[t[1]]], local[g[t[2]]]});
     for (std::size_t x = 0; x < tris.size(); ++x)
       for (std::size_t y = x + 1; y < tris.size(); ++y)
         if (triangles_intersect(sm, static_cast<TriId>(x), static_cast<TriId>(y))) {
-          *why = "its boundary triangulation intersects itself (the sides of the strip cross in space)";
+          *why =
+              "its boundary triangulation intersects itself (the sides of the strip cross in "
+              "space)";
           return false;
         }
   }
@@ -541,7 +569,8 @@ bool triangulate_from_boundary(FaceMesh& out, const geom::Face& f, const geom::S
     }
     if (worst > chordal_tol) {
       std::ostringstream o;
-      o << "its boundary triangulation deviates " << worst << " from the surface (tolerance " << chordal_tol << ")";
+      o << "its boundary triangulation deviates " << worst << " from the surface (tolerance "
+        << chordal_tol << ")";
       *why = o.str();
       return false;
     }
@@ -633,8 +662,10 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       const bool pole = m.edges[static_cast<std::size_t>(ei)].degenerate;
       const bool sub_floor =
           glm::length(node_points[static_cast<std::size_t>(gid[static_cast<std::size_t>(j)])] -
-                      node_points[static_cast<std::size_t>(gid[static_cast<std::size_t>(i)])]) < seg_floor;
-      in.segments.push_back({i, j, pole || sub_floor ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
+                      node_points[static_cast<std::size_t>(gid[static_cast<std::size_t>(i)])]) <
+          seg_floor;
+      in.segments.push_back(
+          {i, j, pole || sub_floor ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
       sedge.push_back(ei);
       spiece.push_back(piece[static_cast<std::size_t>(i)]);
     }
@@ -656,8 +687,8 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       piece.push_back({en.t[k], k + 1 < en.t.size() ? en.t[k + 1] : nan});
     }
     for (m2d::VertId i = first; i + 1 < static_cast<m2d::VertId>(in.points.size()); ++i)
-      in.segments.push_back({i, i + 1, static_cast<int>(use->edge) + 1}), sedge.push_back(use->edge),
-          spiece.push_back(piece[static_cast<std::size_t>(i)]);
+      in.segments.push_back({i, i + 1, static_cast<int>(use->edge) + 1}),
+          sedge.push_back(use->edge), spiece.push_back(piece[static_cast<std::size_t>(i)]);
   }
   // One node, one (u,v) point per side: the pcurves of two edges meeting at a vertex end
   // a few ulps apart, and a loop touching the seam at a vertex would then put a point a
@@ -669,7 +700,8 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     const double tol = 1e-6 * (ext > 0 ? ext : 1.0);
     std::vector<std::size_t> order(in.points.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return gid[a] < gid[b]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return gid[a] < gid[b]; });
     for (std::size_t k = 0; k < order.size();) {
       std::size_t e = k;
       while (e < order.size() && gid[order[e]] == gid[order[k]]) ++e;
@@ -700,14 +732,16 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   // (triangulate_from_boundary); else the reason is added to the failure.
   const bool one_loop = embedded.empty() && in.segments.size() == in.points.size() &&
                         std::count_if(f.loops.begin(), f.loops.end(), [](const geom::Loop& l) {
-                          return std::any_of(l.uses.begin(), l.uses.end(), [](const geom::EdgeUse& u) { return !u.internal; });
+                          return std::any_of(l.uses.begin(), l.uses.end(),
+                                             [](const geom::EdgeUse& u) { return !u.internal; });
                         }) == 1;
   std::vector<geom::Vec2> uv_raw(in.points.size());
   for (std::size_t i = 0; i < uv_raw.size(); ++i) uv_raw[i] = {in.points[i].x, in.points[i].y};
   auto uv_failure = [&](std::string msg) {
     if (boundary_fallback && one_loop) {
       std::string why;
-      if (triangulate_from_boundary(out, f, s, gid, uv_raw, node_points, opt.size.chordal_tol, &why)) {
+      if (triangulate_from_boundary(out, f, s, gid, uv_raw, node_points, opt.size.chordal_tol,
+                                    &why)) {
         out.stats.face = fid;
         out.error.clear();
         out.refine_at.clear();
@@ -725,7 +759,9 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   std::vector<param::Metric2> samples;
   samples.reserve(81);
   for (int i = 0; i <= 8; ++i)
-    for (int j = 0; j <= 8; ++j) samples.push_back(field.metric_uv(f.uv_box.u.at((i + 0.5) / 9.5), f.uv_box.v.at((j + 0.5) / 9.5)));
+    for (int j = 0; j <= 8; ++j)
+      samples.push_back(
+          field.metric_uv(f.uv_box.u.at((i + 0.5) / 9.5), f.uv_box.v.at((j + 0.5) / 9.5)));
   const auto [cells_u, cells_v] = grid_cells(samples, f.uv_box, s.singular_sides(), s.kind());
   UvMetricGrid grid(field, f.uv_box, s.singular_sides(), cells_u, cells_v);
   // mesher2d starts from the Delaunay triangulation of the boundary in its own
@@ -744,17 +780,20 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   bool has_pole = false;
   for (const geom::Loop& loop : f.loops)
     for (const geom::EdgeUse& use : loop.uses)
-      has_pole = has_pole || (use.edge >= 0 && m.edges[static_cast<std::size_t>(use.edge)].degenerate);
+      has_pole =
+          has_pole || (use.edge >= 0 && m.edges[static_cast<std::size_t>(use.edge)].degenerate);
   if (!has_pole) {
     double lu = 0, lv = 0;
     int n = 0;
     for (const param::Metric2& g : samples) {
-      if (!(g(0, 0) > 0) || !(g(1, 1) > 0) || !std::isfinite(g(0, 0)) || !std::isfinite(g(1, 1))) continue;
+      if (!(g(0, 0) > 0) || !(g(1, 1) > 0) || !std::isfinite(g(0, 0)) || !std::isfinite(g(1, 1)))
+        continue;
       lu += 0.5 * std::log(g(0, 0)), lv += 0.5 * std::log(g(1, 1)), ++n;
     }
     if (n > 0) {
       const double k = std::exp((lv - lu) / n);
-      if (std::isfinite(k) && std::abs(std::log(k)) > std::log(1.5)) vscale = std::clamp(k, 1e-6, 1e6);
+      if (std::isfinite(k) && std::abs(std::log(k)) > std::log(1.5))
+        vscale = std::clamp(k, 1e-6, 1e6);
     }
   }
   const std::vector<m2d::Vec2> uv_in = in.points;
@@ -780,7 +819,8 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     if (r.status.code == m2d::StatusCode::CrossingSegments && r.status.entities.size() >= 2) {
       const auto e0 = sedge[static_cast<std::size_t>(r.status.entities[0])];
       const auto e1 = sedge[static_cast<std::size_t>(r.status.entities[1])];
-      msg = "the (u,v) curves of edges " + std::to_string(e0) + " and " + std::to_string(e1) + " cross (" + msg + ")";
+      msg = "the (u,v) curves of edges " + std::to_string(e0) + " and " + std::to_string(e1) +
+            " cross (" + msg + ")";
       for (int k = 0; k < 2; ++k) {
         const auto sg = static_cast<std::size_t>(r.status.entities[static_cast<std::size_t>(k)]);
         if (std::isfinite(spiece[sg][0]) && std::isfinite(spiece[sg][1]))
@@ -788,14 +828,16 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       }
     }
     msg = "2D mesher: " + msg;
-    if (r.status.code == m2d::StatusCode::CrossingSegments || r.status.code == m2d::StatusCode::OpenBoundary ||
+    if (r.status.code == m2d::StatusCode::CrossingSegments ||
+        r.status.code == m2d::StatusCode::OpenBoundary ||
         r.status.code == m2d::StatusCode::InvalidInput)
       return uv_failure(std::move(msg));
     out.error = std::move(msg);
     return out;
   }
   if (r.stats.segments_split_at_vertices > 0)
-    return uv_failure("a boundary node lies on another edge's (u,v) segment; the face would not conform");
+    return uv_failure(
+        "a boundary node lies on another edge's (u,v) segment; the face would not conform");
 
   // ---- map back: boundary vertices are global nodes; the others are new points.
   const m2d::Mesh& mm = r.mesh;
@@ -809,13 +851,14 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
     const m2d::VertId v = mm.input_vertex[i];
     if (v == m2d::kNone) {
       return uv_failure("boundary node at " + fmt_uv({uv_in[i].x, uv_in[i].y}) + " of edge " +
-                        std::to_string(pedge[i]) + " lies outside the face's (u,v) domain (loop orientation?)");
+                        std::to_string(pedge[i]) +
+                        " lies outside the face's (u,v) domain (loop orientation?)");
     }
     const auto vi = static_cast<std::size_t>(v);
     if (lm.global[vi] >= 0 && lm.global[vi] != gid[i]) {
-      return uv_failure("nodes " + std::to_string(lm.global[vi]) + " and " + std::to_string(gid[i]) +
-                        " (edges " + std::to_string(pedge[i]) + ") coincide in (u,v) at " +
-                        fmt_uv({uv_in[i].x, uv_in[i].y}));
+      return uv_failure("nodes " + std::to_string(lm.global[vi]) + " and " +
+                        std::to_string(gid[i]) + " (edges " + std::to_string(pedge[i]) +
+                        ") coincide in (u,v) at " + fmt_uv({uv_in[i].x, uv_in[i].y}));
     }
     lm.global[vi] = gid[i];
     lm.fixed[vi] = 1;
@@ -828,9 +871,11 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
       // the traces (in mesher2d's coordinates), the scaling being isotropic.
       const param::Metric2 fm = field.metric_uv(lm.uv[v].x, lm.uv[v].y);
       const double tr = fm(0, 0) + fm(1, 1) / (vscale * vscale);
-      if (tr > 0) lm.scale[v] = std::max(1.0, (mm.vertex_metric[v].m11 + mm.vertex_metric[v].m22) / tr);
+      if (tr > 0)
+        lm.scale[v] = std::max(1.0, (mm.vertex_metric[v].m11 + mm.vertex_metric[v].m22) / tr);
     }
-    lm.p[v] = lm.global[v] >= 0 ? node_points[static_cast<std::size_t>(lm.global[v])] : s.point(lm.uv[v].x, lm.uv[v].y);
+    lm.p[v] = lm.global[v] >= 0 ? node_points[static_cast<std::size_t>(lm.global[v])]
+                                : s.point(lm.uv[v].x, lm.uv[v].y);
   }
   // Boundary nodes keep their exact (u,v), not the round trip through the v scaling.
   for (std::size_t i = 0; i < uv_in.size(); ++i)
@@ -838,7 +883,8 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   lm.tris.reserve(mm.triangles.size());
   for (const auto& t : mm.triangles) {
     // At a pole two (u,v) points are one node: that triangle is an edge in 3D.
-    const NodeId g0 = lm.global[static_cast<std::size_t>(t[0])], g1 = lm.global[static_cast<std::size_t>(t[1])],
+    const NodeId g0 = lm.global[static_cast<std::size_t>(t[0])],
+                 g1 = lm.global[static_cast<std::size_t>(t[1])],
                  g2 = lm.global[static_cast<std::size_t>(t[2])];
     if (g0 >= 0 && (g0 == g1 || g0 == g2)) continue;
     if (g1 >= 0 && g1 == g2) continue;
@@ -897,7 +943,10 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   // triangles it then makes are one 3D triangle with both orientations (a zero-volume
   // fold). Removing the pair leaves the surrounding fan manifold.
   {
-    auto node = [&](int v) { return lm.global[v] >= 0 ? static_cast<std::int64_t>(lm.global[v]) : -1 - static_cast<std::int64_t>(v); };
+    auto node = [&](int v) {
+      return lm.global[v] >= 0 ? static_cast<std::int64_t>(lm.global[v])
+                               : -1 - static_cast<std::int64_t>(v);
+    };
     std::map<std::array<std::int64_t, 3>, std::vector<std::size_t>> seen;
     for (std::size_t t = 0; t < lm.tris.size(); ++t) {
       std::array<std::int64_t, 3> k{node(lm.tris[t][0]), node(lm.tris[t][1]), node(lm.tris[t][2])};
@@ -939,12 +988,15 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
         const geom::Vec3 d = lm.p[b] - lm.p[a];
         const double la = metric_at(a).length(d), lb = metric_at(b).length(d);
         const double ratio = la > 0 ? lb / la : 1.0;
-        const double L =
-            (std::abs(ratio - 1) < 1e-3 || !(ratio > 0)) ? 0.5 * (la + lb) : (lb - la) / std::log(ratio);
+        const double L = (std::abs(ratio - 1) < 1e-3 || !(ratio > 0)) ? 0.5 * (la + lb)
+                                                                      : (lb - la) / std::log(ratio);
         ++out.stats.edges;
-        if (L < std::sqrt(0.5)) ++out.stats.short_edges;
-        else if (L > std::sqrt(2.0)) ++out.stats.long_edges;
-        else ++out.stats.unit_edges;
+        if (L < std::sqrt(0.5))
+          ++out.stats.short_edges;
+        else if (L > std::sqrt(2.0))
+          ++out.stats.long_edges;
+        else
+          ++out.stats.unit_edges;
       }
   }
 

@@ -49,7 +49,10 @@ struct Improver {
     opp.assign(3 * nt, -1);
     std::unordered_map<std::uint64_t, std::int32_t> half;
     half.reserve(3 * nt);
-    auto key = [](int a, int b) { return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b); };
+    auto key = [](int a, int b) {
+      return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+             static_cast<std::uint32_t>(b);
+    };
     for (std::size_t t = 0; t < nt; ++t)
       for (int i = 0; i < 3; ++i) {
         const int a = lm.tris[t][(i + 1) % 3], b = lm.tris[t][(i + 2) % 3];
@@ -64,8 +67,9 @@ struct Improver {
   }
 
   bool same_node(int a, int b) const {
-    return a == b || (lm.global[static_cast<std::size_t>(a)] >= 0 &&
-                      lm.global[static_cast<std::size_t>(a)] == lm.global[static_cast<std::size_t>(b)]);
+    return a == b ||
+           (lm.global[static_cast<std::size_t>(a)] >= 0 &&
+            lm.global[static_cast<std::size_t>(a)] == lm.global[static_cast<std::size_t>(b)]);
   }
 
   // One sweep of quality swaps: the diagonal of two triangles is swapped when the worse
@@ -98,11 +102,14 @@ struct Improver {
         // Both new triangles face the side the old pair faced (two triangles turned over
         // together pass the fold test; near occt_mesh_hang's fold lines they did).
         const geom::Vec3 n_old = unit_normal(pa, pb, pc) + unit_normal(pd, pc, pb);
-        if (!(glm::dot(unit_normal(pa, pb, pd), n_old) > 0) || !(glm::dot(unit_normal(pa, pd, pc), n_old) > 0)) continue;
+        if (!(glm::dot(unit_normal(pa, pb, pd), n_old) > 0) ||
+            !(glm::dot(unit_normal(pa, pd, pc), n_old) > 0))
+          continue;
         // New triangles (a,b,d) in t and (a,d,c) in u; relink the four outer half-edges.
         const std::int32_t o_ab = opp[3 * t + (i + 2) % 3];  // edge a-b of t (opposite c)
         const std::int32_t o_ca = opp[3 * t + (i + 1) % 3];  // edge c-a of t (opposite b)
-        const std::int32_t o_bd = opp[3 * u + (j + 1) % 3];  // edge b-d of u (U = d,c,b ordered from j)
+        const std::int32_t o_bd =
+            opp[3 * u + (j + 1) % 3];  // edge b-d of u (U = d,c,b ordered from j)
         const std::int32_t o_dc = opp[3 * u + (j + 2) % 3];  // edge d-c of u
         T = {a, b, d};
         U = {a, d, c};
@@ -147,7 +154,8 @@ struct Improver {
       const auto& T = lm.tris[static_cast<std::size_t>(t)];
       n0 += glm::cross(lm.p[T[1]] - lm.p[T[0]], lm.p[T[2]] - lm.p[T[0]]);
     }
-    if (glm::dot(n0, glm::cross(e.du, e.dv)) <= 0) return -1.0;  // the ring faces away from the surface
+    if (glm::dot(n0, glm::cross(e.du, e.dv)) <= 0)
+      return -1.0;  // the ring faces away from the surface
     auto faces_n0 = [&](std::int32_t t) {
       const auto& T = lm.tris[static_cast<std::size_t>(t)];
       return glm::dot(glm::cross(lm.p[T[1]] - lm.p[T[0]], lm.p[T[2]] - lm.p[T[0]]), n0) > 0;
@@ -352,7 +360,8 @@ std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes, 
     }
     ring.assign(lm.uv.size(), {});
     for (std::size_t t = 0; t < lm.tris.size(); ++t)
-      for (int k : lm.tris[t]) ring[static_cast<std::size_t>(k)].push_back(static_cast<std::int32_t>(t));
+      for (int k : lm.tris[t])
+        ring[static_cast<std::size_t>(k)].push_back(static_cast<std::int32_t>(t));
     const int mv = im.smooth_pass(ring);
     const int cl = collapse ? im.collapse_pass(ring) : 0;
     if (cl > 0) {

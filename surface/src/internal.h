@@ -38,7 +38,8 @@ class EdgeDiscretizer {
     double f;          ///< unit edges per unit of parameter without caps
   };
   /// Unit edges per unit of parameter at t; `speed` receives |C'(t)|.
-  double density(const geom::Edge& e, geom::Id eid, double t, double& speed, const BoundaryCaps* caps) const;
+  double density(const geom::Edge& e, geom::Id eid, double t, double& speed,
+                 const BoundaryCaps* caps) const;
   Sample sample(const geom::Edge& e, geom::Id eid, double t) const;
   const geom::Model& m_;
   const param::SizeSpec& spec_;
@@ -55,8 +56,8 @@ class EdgeDiscretizer {
 
 /// The 1D mesh of the whole model: global node ids of every edge's nodes.
 struct EdgeNodes {
-  std::vector<double> t;       ///< curve parameters, ends included
-  std::vector<NodeId> node;    ///< global node ids, same length
+  std::vector<double> t;     ///< curve parameters, ends included
+  std::vector<NodeId> node;  ///< global node ids, same length
 };
 
 /// Size caps along model edges from the 1D mesh of the other edges of the faces around
@@ -74,7 +75,8 @@ struct EdgeNodes {
 /// (MeshOptions::boundary_size_rounds times, as a refined edge is a new source).
 class BoundaryCaps {
  public:
-  BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t, const param::SizeSpec& spec);
+  BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t,
+               const param::SizeSpec& spec);
   /// Bound of the size at x on edge e (tangent: unit tangent of e at x), at most h.
   double cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent, double h) const;
   /// True when cap(e, ...) reads edge o: o is another edge of a face around e. What it
@@ -121,7 +123,7 @@ struct FaceMesh {
   std::vector<geom::Vec3> points;  ///< interior points
   std::vector<std::array<NodeId, 3>> tris;
   std::vector<std::array<geom::Vec2, 3>> tri_uv;  ///< (u,v) of the corners (of interior points too)
-  std::string error;  ///< non-empty: the face failed, with the reason
+  std::string error;                              ///< non-empty: the face failed, with the reason
   /// Pieces of edges whose (u,v) polylines crossed: {edge, curve parameter of the
   /// piece's midpoint}. Splitting them lets the polylines follow the pcurves closer.
   std::vector<std::pair<geom::Id, double>> refine_at;
@@ -139,7 +141,7 @@ struct FaceMesh {
 struct LocalMesh {
   std::vector<geom::Vec2> uv;
   std::vector<geom::Vec3> p;
-  std::vector<NodeId> global;  ///< >= 0 boundary node; -1 interior
+  std::vector<NodeId> global;            ///< >= 0 boundary node; -1 interior
   std::vector<std::array<int, 3>> tris;  ///< CCW in (u,v)
   std::vector<char> fixed;
   std::vector<double> scale;  ///< metric scale used by mesher2d (see FaceMesh::scale)
@@ -149,7 +151,8 @@ struct LocalMesh {
 /// stay on the surface. Returns {swaps, moves}.
 /// collapse = false: swaps and smoothing only (after the chordal repair, whose added
 /// points a collapse would take away again).
-std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes, bool collapse = true);
+std::array<int, 2> improve3d(LocalMesh& lm, const geom::Surface& s, int passes,
+                             bool collapse = true);
 
 /// Q_K = alpha h_max / rho (eq. 7.6) of a 3D triangle, as 1/Q in [0, 1] (0: flat).
 double q3(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c);

@@ -60,9 +60,10 @@ template <class F>
 void parallel_indices(tbb::task_arena& arena, std::size_t n, F&& f) {
   // grain 1: faces differ in cost by orders of magnitude.
   arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
+                      });
   });
 }
 
@@ -77,12 +78,15 @@ double closest_param(const geom::Curve& c, double lo, double hi, const geom::Vec
     const double d = glm::length(c.point(lo + (hi - lo) * k / kSamples) - x);
     if (d < dbest) dbest = d, best = k;
   }
-  double a = lo + (hi - lo) * std::max(0, best - 1) / kSamples, b = lo + (hi - lo) * std::min(kSamples, best + 1) / kSamples;
+  double a = lo + (hi - lo) * std::max(0, best - 1) / kSamples,
+         b = lo + (hi - lo) * std::min(kSamples, best + 1) / kSamples;
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
   for (int it = 0; it < 60 && b - a > 1e-15 * std::max(1.0, std::abs(b)); ++it) {
     const double t1 = b - g * (b - a), t2 = a + g * (b - a);
-    if (glm::length(c.point(t1) - x) < glm::length(c.point(t2) - x)) b = t2;
-    else a = t1;
+    if (glm::length(c.point(t1) - x) < glm::length(c.point(t2) - x))
+      b = t2;
+    else
+      a = t1;
   }
   return 0.5 * (a + b);
 }
@@ -92,7 +96,8 @@ double one_sided_distance(const geom::Edge& a, const geom::Edge& b) {
   double d = 0;
   for (int k = 0; k <= 32; ++k) {
     const geom::Vec3 x = a.curve->point(a.range.at(k / 32.0));
-    d = std::max(d, glm::length(b.curve->point(closest_param(*b.curve, b.range.lo, b.range.hi, x)) - x));
+    d = std::max(
+        d, glm::length(b.curve->point(closest_param(*b.curve, b.range.lo, b.range.hi, x)) - x));
   }
   return d;
 }
@@ -130,11 +135,13 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     const geom::Face& face = m.faces[f];
     if (face.degenerate) return;  // not meshed (geom::Face::degenerate); no field, no error
     if (!face.surface) {
-      face_error[f] = "the face has no surface (kind " + std::string(geom::to_string(face.kind)) + ")";
+      face_error[f] =
+          "the face has no surface (kind " + std::string(geom::to_string(face.kind)) + ")";
       return;
     }
     try {
-      fields[f] = std::make_unique<param::FaceSizeField>(*face.surface, face.uv_box, spec, static_cast<geom::Id>(f));
+      fields[f] = std::make_unique<param::FaceSizeField>(*face.surface, face.uv_box, spec,
+                                                         static_cast<geom::Id>(f));
     } catch (...) {
       face_error[f] = "the surface could not be evaluated on its parameter box";
     }
@@ -168,8 +175,9 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
             // Same edges but two different surfaces (a lens): compare an inside point.
             try {
               const geom::Vec3 p = a.surface->point(a.uv_box.u.mid(), a.uv_box.v.mid());
-              const Projection pr = project_to_surface(*b.surface, p, {b.uv_box.u.mid(), b.uv_box.v.mid()}, b.uv_box,
-                                                       std::max(a.tol, tol));
+              const Projection pr =
+                  project_to_surface(*b.surface, p, {b.uv_box.u.mid(), b.uv_box.v.mid()}, b.uv_box,
+                                     std::max(a.tol, tol));
               same = pr.converged && pr.distance <= std::max(10 * std::max(a.tol, b.tol), tol);
             } catch (...) {
               same = false;
@@ -190,7 +198,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   for (const geom::Face& face : m.faces)
     for (const geom::Loop& l : face.loops)
       for (const geom::EdgeUse& u : l.uses)
-        if (u.edge >= 0 && static_cast<std::size_t>(u.edge) < ne) on_face[static_cast<std::size_t>(u.edge)] = 1;
+        if (u.edge >= 0 && static_cast<std::size_t>(u.edge) < ne)
+          on_face[static_cast<std::size_t>(u.edge)] = 1;
 
   // An edge whose two ends are one model vertex although its curve's ends are farther
   // apart than the edge's own tolerance is closed by the vertex's tolerance alone: its
@@ -202,7 +211,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   // still closed here, and the mesh cannot follow both: say so.
   for (std::size_t e = 0; e < ne; ++e) {
     const geom::Edge& ed = m.edges[e];
-    if (!on_face[e] || ed.degenerate || !ed.curve || ed.v0 != ed.v1 || ed.v0 == geom::kNone) continue;
+    if (!on_face[e] || ed.degenerate || !ed.curve || ed.v0 != ed.v1 || ed.v0 == geom::kNone)
+      continue;
     try {
       const double gap = glm::length(ed.curve->point(ed.range.hi) - ed.curve->point(ed.range.lo));
       if (!(gap > ed.tol)) continue;
@@ -229,7 +239,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     } catch (...) {
       const geom::Edge& ed = m.edges[e];
       edges[e].t = {ed.range.lo, ed.range.hi};
-      edge_error[e] = "edge " + std::to_string(e) + ": its curve could not be evaluated; kept as one segment";
+      edge_error[e] =
+          "edge " + std::to_string(e) + ": its curve could not be evaluated; kept as one segment";
     }
   });
   // Sizes from the other edges of each face (gradation across the face, proximity):
@@ -250,8 +261,9 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     std::vector<char> now(ne, 0);
     parallel_indices(arena, ne, [&](std::size_t e) {
       if (!edge_error[e].empty()) return;
-      if (round > 0 && !caps.any_neighbour(static_cast<geom::Id>(e),
-                                           [&](geom::Id o) { return moved[static_cast<std::size_t>(o)] != 0; }))
+      if (round > 0 && !caps.any_neighbour(static_cast<geom::Id>(e), [&](geom::Id o) {
+            return moved[static_cast<std::size_t>(o)] != 0;
+          }))
         return;
       try {
         std::vector<double> nt = disc.discretize(static_cast<geom::Id>(e), &caps);
@@ -312,7 +324,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   auto split_edge = [&](std::size_t e) {
     auto& t = edges[e].t;
     std::vector<double> nt;
-    for (std::size_t i = 0; i + 1 < t.size(); ++i) nt.push_back(t[i]), nt.push_back(0.5 * (t[i] + t[i + 1]));
+    for (std::size_t i = 0; i + 1 < t.size(); ++i)
+      nt.push_back(t[i]), nt.push_back(0.5 * (t[i] + t[i + 1]));
     nt.push_back(t.back());
     t.swap(nt);
   };
@@ -324,7 +337,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
         for (const geom::EdgeUse& u : l.uses) {
           const auto e = static_cast<std::size_t>(u.edge);
           nodes += m.edges[e].degenerate ? 1 : edges[e].t.size() - 1;
-          if (!m.edges[e].degenerate && m.edges[e].length > best) best = m.edges[e].length, longest = e;
+          if (!m.edges[e].degenerate && m.edges[e].length > best)
+            best = m.edges[e].length, longest = e;
         }
         if (nodes >= 3 || best < 0) break;
         split_edge(longest);
@@ -355,18 +369,25 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     for (std::size_t f = 0; f < nf; ++f)
       for (const geom::Loop& l : m.faces[f].loops)
         for (const geom::EdgeUse& u : l.uses)
-          if (u.edge >= 0) faces_of[static_cast<std::size_t>(u.edge)].push_back(static_cast<geom::Id>(f));
+          if (u.edge >= 0)
+            faces_of[static_cast<std::size_t>(u.edge)].push_back(static_cast<geom::Id>(f));
     std::vector<char> involved(ne, 0);
     for (std::size_t f = 0; f < nf; ++f) {
       const geom::Face& face = m.faces[f];
-      if (face.degenerate || !face_error[f].empty() || twin_of[f] != geom::kNone || face.loops.size() != 1) continue;
+      if (face.degenerate || !face_error[f].empty() || twin_of[f] != geom::kNone ||
+          face.loops.size() != 1)
+        continue;
       const auto& uses = face.loops[0].uses;
       if (uses.size() != 2 || uses[0].internal || uses[1].internal) continue;
-      const auto ea = static_cast<std::size_t>(uses[0].edge), eb = static_cast<std::size_t>(uses[1].edge);
-      if (ea == eb || involved[ea] || involved[eb] || !edge_error[ea].empty() || !edge_error[eb].empty()) continue;
+      const auto ea = static_cast<std::size_t>(uses[0].edge),
+                 eb = static_cast<std::size_t>(uses[1].edge);
+      if (ea == eb || involved[ea] || involved[eb] || !edge_error[ea].empty() ||
+          !edge_error[eb].empty())
+        continue;
       const geom::Edge &a = m.edges[ea], &b = m.edges[eb];
-      if (a.degenerate || b.degenerate || !a.curve || !b.curve || a.v0 == geom::kNone || a.v1 == geom::kNone ||
-          a.v0 == a.v1 || !((a.v0 == b.v0 && a.v1 == b.v1) || (a.v0 == b.v1 && a.v1 == b.v0)))
+      if (a.degenerate || b.degenerate || !a.curve || !b.curve || a.v0 == geom::kNone ||
+          a.v1 == geom::kNone || a.v0 == a.v1 ||
+          !((a.v0 == b.v0 && a.v1 == b.v1) || (a.v0 == b.v1 && a.v1 == b.v0)))
         continue;
       // Each edge: this face and exactly one other, and the two others differ.
       auto other = [&](std::size_t e) {
@@ -378,7 +399,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       };
       const auto [oa, na] = other(ea);
       const auto [ob, nb] = other(eb);
-      if (na != 1 || nb != 1 || oa == ob || collapsed[static_cast<std::size_t>(oa)] || collapsed[static_cast<std::size_t>(ob)])
+      if (na != 1 || nb != 1 || oa == ob || collapsed[static_cast<std::size_t>(oa)] ||
+          collapsed[static_cast<std::size_t>(ob)])
         continue;
       double width = 0;
       try {
@@ -395,8 +417,11 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       // The faces beside the strip then meet at its primary edge, up to `width` off the
       // secondary's face: with a chordal tolerance, only a strip much narrower than it
       // (a tenth: the chords along the primary may use 0.9 of it, see the 1D repair).
-      if (!(width <= gap_floor) || (opt.size.chordal_tol > 0 && !(width <= 0.1 * opt.size.chordal_tol))) continue;
-      const bool a_first = edges[ea].t.size() > edges[eb].t.size() || (edges[ea].t.size() == edges[eb].t.size() && ea < eb);
+      if (!(width <= gap_floor) ||
+          (opt.size.chordal_tol > 0 && !(width <= 0.1 * opt.size.chordal_tol)))
+        continue;
+      const bool a_first = edges[ea].t.size() > edges[eb].t.size() ||
+                           (edges[ea].t.size() == edges[eb].t.size() && ea < eb);
       const std::size_t pe = a_first ? ea : eb, se = a_first ? eb : ea;
       primary_of[se] = static_cast<geom::Id>(pe);
       involved[ea] = involved[eb] = 1;
@@ -405,8 +430,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       os << "a strip between edges " << pe << " and " << se << " at most " << width
          << " wide, narrower than the proximity floor " << gap_floor
          << (gap_floor > floor ? " (the edges' tolerances)" : " (hmin / 100)") << ": edge " << se
-         << " takes the nodes of edge " << pe << ", faces " << (a_first ? ob : oa) << " and " << (a_first ? oa : ob)
-         << " meet there";
+         << " takes the nodes of edge " << pe << ", faces " << (a_first ? ob : oa) << " and "
+         << (a_first ? oa : ob) << " meet there";
       res.collapsed.push_back({static_cast<geom::Id>(f), os.str()});
     }
   }
@@ -443,118 +468,127 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   double t_faces = 0;
   SurfaceMesh& M = res.mesh;
   for (int round = 0;; ++round) {
-  face_error = pre_error;
-  M = {};
-  // Global numbering (surface_mesh.h): model vertices, then edge interiors in order.
-  auto add_point = [&](const geom::Vec3& p, int dim, geom::Id ent, double t) {
-    M.points.push_back(p);
-    M.point_dim.push_back(static_cast<std::int8_t>(dim));
-    M.point_entity.push_back(ent);
-    M.point_t.push_back(t);
-    return static_cast<NodeId>(M.points.size() - 1);
-  };
-  for (std::size_t v = 0; v < nv; ++v) add_point(m.vertices[v].p, 0, static_cast<geom::Id>(v), 0.0);
-  for (std::size_t e = 0; e < ne; ++e) {
-    const geom::Edge& ed = m.edges[e];
-    auto& en = edges[e];
-    const std::size_t n = en.t.size();
-    en.node.resize(n);
-    auto end_node = [&](geom::Id v, double t) {
-      if (v != geom::kNone) return static_cast<NodeId>(v);
-      // An edge without a vertex (rare CAD): its end becomes an edge node.
-      return add_point(ed.curve ? ed.curve->point(t) : geom::Vec3(0.0), 1, static_cast<geom::Id>(e), t);
+    face_error = pre_error;
+    M = {};
+    // Global numbering (surface_mesh.h): model vertices, then edge interiors in order.
+    auto add_point = [&](const geom::Vec3& p, int dim, geom::Id ent, double t) {
+      M.points.push_back(p);
+      M.point_dim.push_back(static_cast<std::int8_t>(dim));
+      M.point_entity.push_back(ent);
+      M.point_t.push_back(t);
+      return static_cast<NodeId>(M.points.size() - 1);
     };
-    en.node.front() = end_node(ed.v0, en.t.front());
-    if (ed.degenerate) {
-      for (auto& x : en.node) x = en.node.front();
-      continue;
+    for (std::size_t v = 0; v < nv; ++v)
+      add_point(m.vertices[v].p, 0, static_cast<geom::Id>(v), 0.0);
+    for (std::size_t e = 0; e < ne; ++e) {
+      const geom::Edge& ed = m.edges[e];
+      auto& en = edges[e];
+      const std::size_t n = en.t.size();
+      en.node.resize(n);
+      auto end_node = [&](geom::Id v, double t) {
+        if (v != geom::kNone) return static_cast<NodeId>(v);
+        // An edge without a vertex (rare CAD): its end becomes an edge node.
+        return add_point(ed.curve ? ed.curve->point(t) : geom::Vec3(0.0), 1,
+                         static_cast<geom::Id>(e), t);
+      };
+      en.node.front() = end_node(ed.v0, en.t.front());
+      if (ed.degenerate) {
+        for (auto& x : en.node) x = en.node.front();
+        continue;
+      }
+      if (!on_face[e]) {
+        // A loose edge (wireframe geometry in a STEP file, not bounding any face) is not
+        // part of the surface: no nodes, no segments; its vertices go if nothing uses them.
+        en.node.back() = ed.v1 != geom::kNone ? static_cast<NodeId>(ed.v1) : en.node.front();
+        continue;
+      }
+      if (primary_of[e] != geom::kNone) continue;  // its primary's nodes, below
+      for (std::size_t i = 1; i + 1 < n; ++i)
+        en.node[i] = add_point(ed.curve->point(en.t[i]), 1, static_cast<geom::Id>(e), en.t[i]);
+      en.node.back() =
+          ed.v1 == ed.v0 && ed.v0 == geom::kNone ? en.node.front() : end_node(ed.v1, en.t.back());
+      for (std::size_t i = 0; i + 1 < n; ++i)
+        M.segments.push_back({en.node[i], en.node[i + 1], static_cast<geom::Id>(e)});
     }
-    if (!on_face[e]) {
-      // A loose edge (wireframe geometry in a STEP file, not bounding any face) is not
-      // part of the surface: no nodes, no segments; its vertices go if nothing uses them.
-      en.node.back() = ed.v1 != geom::kNone ? static_cast<NodeId>(ed.v1) : en.node.front();
-      continue;
+    // A collapsed strip's secondary edge: the primary's nodes in its own direction, and no
+    // segments of its own (they would be the primary's again).
+    for (std::size_t e = 0; e < ne; ++e) {
+      if (primary_of[e] == geom::kNone) continue;
+      const auto pe = static_cast<std::size_t>(primary_of[e]);
+      const std::vector<NodeId>& pn = edges[pe].node;
+      auto& sn = edges[e].node;
+      sn.assign(pn.begin(), pn.end());
+      if (m.edges[pe].v0 != m.edges[e].v0) std::reverse(sn.begin(), sn.end());
     }
-    if (primary_of[e] != geom::kNone) continue;  // its primary's nodes, below
-    for (std::size_t i = 1; i + 1 < n; ++i)
-      en.node[i] = add_point(ed.curve->point(en.t[i]), 1, static_cast<geom::Id>(e), en.t[i]);
-    en.node.back() = ed.v1 == ed.v0 && ed.v0 == geom::kNone ? en.node.front() : end_node(ed.v1, en.t.back());
-    for (std::size_t i = 0; i + 1 < n; ++i) M.segments.push_back({en.node[i], en.node[i + 1], static_cast<geom::Id>(e)});
-  }
-  // A collapsed strip's secondary edge: the primary's nodes in its own direction, and no
-  // segments of its own (they would be the primary's again).
-  for (std::size_t e = 0; e < ne; ++e) {
-    if (primary_of[e] == geom::kNone) continue;
-    const auto pe = static_cast<std::size_t>(primary_of[e]);
-    const std::vector<NodeId>& pn = edges[pe].node;
-    auto& sn = edges[e].node;
-    sn.assign(pn.begin(), pn.end());
-    if (m.edges[pe].v0 != m.edges[e].v0) std::reverse(sn.begin(), sn.end());
-  }
-  if (round == 0) res.stages.push_back({"curves", seconds_since(t0)});
+    if (round == 0) res.stages.push_back({"curves", seconds_since(t0)});
 
-  // ---- 2. faces, in parallel; each face only touches its own surface and pcurves.
-  t0 = Clock::now();
-  fm.assign(nf, {});
-  std::atomic<int> done{0};
-  const std::vector<geom::Vec3>& node_points = M.points;
-  parallel_indices(arena, nf, [&](std::size_t f) {
-    if (!face_error[f].empty() || twin_of[f] != geom::kNone || m.faces[f].degenerate || collapsed[f]) return;
-    const auto tf = Clock::now();
-    // A face's size field lives while its face is meshed only (memory: one grid per face
-    // of a model with thousands of faces); a later crossing round builds it again.
-    if (!fields[f]) build_field(f);
-    try {
-      if (fields[f]) fm[f] = detail::mesh_face(m, static_cast<geom::Id>(f), edges, node_points, *fields[f], opt);
-    } catch (...) {
-      fm[f] = {};
-      fm[f].error = "an exception was raised while evaluating the face's geometry";
+    // ---- 2. faces, in parallel; each face only touches its own surface and pcurves.
+    t0 = Clock::now();
+    fm.assign(nf, {});
+    std::atomic<int> done{0};
+    const std::vector<geom::Vec3>& node_points = M.points;
+    parallel_indices(arena, nf, [&](std::size_t f) {
+      if (!face_error[f].empty() || twin_of[f] != geom::kNone || m.faces[f].degenerate ||
+          collapsed[f])
+        return;
+      const auto tf = Clock::now();
+      // A face's size field lives while its face is meshed only (memory: one grid per face
+      // of a model with thousands of faces); a later crossing round builds it again.
+      if (!fields[f]) build_field(f);
+      try {
+        if (fields[f])
+          fm[f] =
+              detail::mesh_face(m, static_cast<geom::Id>(f), edges, node_points, *fields[f], opt);
+      } catch (...) {
+        fm[f] = {};
+        fm[f].error = "an exception was raised while evaluating the face's geometry";
+      }
+      fields[f].reset();
+      fm[f].stats.face = static_cast<geom::Id>(f);
+      fm[f].stats.seconds = seconds_since(tf);
+      if (!fm[f].error.empty()) face_error[f] = fm[f].error;
+      const int d = ++done;
+      if (opt.progress) opt.progress(d, static_cast<int>(nf));
+    });
+    t_faces += seconds_since(t0);
+    // Only the crossing pieces are split (each round halves them), so that two pcurves
+    // meeting at a small angle get nodes close enough to the vertex to part before it
+    // without refining the whole edge 2^rounds times. (Splitting whole edges, as before,
+    // made new crossings elsewhere on occt_turbine; on occt_caxif_b1 it happened to clear
+    // two faces that pieces alone do not.)
+    std::set<std::pair<geom::Id, double>> refine;
+    for (const auto& F : fm) refine.insert(F.refine_at.begin(), F.refine_at.end());
+    if (refine.empty() || round == kCrossingRounds) break;
+    std::set<geom::Id> touched;
+    for (auto [e, t] : refine) {
+      auto ei = static_cast<std::size_t>(e);
+      if (m.edges[ei].degenerate) continue;
+      if (primary_of[ei] != geom::kNone) {
+        // A secondary's piece is its primary's piece of the same index (counted from the
+        // other end when they run opposite ways); sync_secondaries() follows.
+        const auto& st = edges[ei].t;
+        const auto it = std::upper_bound(st.begin(), st.end(), t);
+        if (it == st.begin() || it == st.end()) continue;
+        const auto i = static_cast<std::size_t>(it - st.begin() - 1);
+        const auto pe = static_cast<std::size_t>(primary_of[ei]);
+        const auto& pt = edges[pe].t;
+        const std::size_t k = m.edges[pe].v0 == m.edges[ei].v0 ? i : pt.size() - 2 - i;
+        t = 0.5 * (pt[k] + pt[k + 1]);
+        ei = pe;
+        e = static_cast<geom::Id>(pe);
+      }
+      auto& ts = edges[ei].t;
+      const auto it = std::lower_bound(ts.begin(), ts.end(), t);
+      if (it == ts.begin() || it == ts.end() || *it == t) continue;
+      ts.insert(it, t);
+      touched.insert(e);
     }
-    fields[f].reset();
-    fm[f].stats.face = static_cast<geom::Id>(f);
-    fm[f].stats.seconds = seconds_since(tf);
-    if (!fm[f].error.empty()) face_error[f] = fm[f].error;
-    const int d = ++done;
-    if (opt.progress) opt.progress(d, static_cast<int>(nf));
-  });
-  t_faces += seconds_since(t0);
-  // Only the crossing pieces are split (each round halves them), so that two pcurves
-  // meeting at a small angle get nodes close enough to the vertex to part before it
-  // without refining the whole edge 2^rounds times. (Splitting whole edges, as before,
-  // made new crossings elsewhere on occt_turbine; on occt_caxif_b1 it happened to clear
-  // two faces that pieces alone do not.)
-  std::set<std::pair<geom::Id, double>> refine;
-  for (const auto& F : fm) refine.insert(F.refine_at.begin(), F.refine_at.end());
-  if (refine.empty() || round == kCrossingRounds) break;
-  std::set<geom::Id> touched;
-  for (auto [e, t] : refine) {
-    auto ei = static_cast<std::size_t>(e);
-    if (m.edges[ei].degenerate) continue;
-    if (primary_of[ei] != geom::kNone) {
-      // A secondary's piece is its primary's piece of the same index (counted from the
-      // other end when they run opposite ways); sync_secondaries() follows.
-      const auto& st = edges[ei].t;
-      const auto it = std::upper_bound(st.begin(), st.end(), t);
-      if (it == st.begin() || it == st.end()) continue;
-      const auto i = static_cast<std::size_t>(it - st.begin() - 1);
-      const auto pe = static_cast<std::size_t>(primary_of[ei]);
-      const auto& pt = edges[pe].t;
-      const std::size_t k = m.edges[pe].v0 == m.edges[ei].v0 ? i : pt.size() - 2 - i;
-      t = 0.5 * (pt[k] + pt[k + 1]);
-      ei = pe;
-      e = static_cast<geom::Id>(pe);
-    }
-    auto& ts = edges[ei].t;
-    const auto it = std::lower_bound(ts.begin(), ts.end(), t);
-    if (it == ts.begin() || it == ts.end() || *it == t) continue;
-    ts.insert(it, t);
-    touched.insert(e);
-  }
-  if (touched.empty()) break;
-  sync_secondaries();
-  res.warnings.push_back("round " + std::to_string(round + 1) + ": " + std::to_string(refine.size()) +
-                         " piece(s) of " + std::to_string(touched.size()) +
-                         " edge(s) split where (u,v) boundaries crossed; model meshed again");
+    if (touched.empty()) break;
+    sync_secondaries();
+    res.warnings.push_back("round " + std::to_string(round + 1) + ": " +
+                           std::to_string(refine.size()) + " piece(s) of " +
+                           std::to_string(touched.size()) +
+                           " edge(s) split where (u,v) boundaries crossed; model meshed again");
   }
   // Faces whose (u,v) boundary stayed unusable after the crossing rounds: a last try
   // that may triangulate them from their boundary nodes (face.cpp,
@@ -566,7 +600,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     for (std::size_t f = 0; f < nf; ++f)
       // Only (u,v) boundary failures: any other (no surface, a time limit) would be
       // meshed again for nothing.
-      if (fm[f].uv_defect && !fm[f].error.empty() && fm[f].error == face_error[f] && twin_of[f] == geom::kNone)
+      if (fm[f].uv_defect && !fm[f].error.empty() && fm[f].error == face_error[f] &&
+          twin_of[f] == geom::kNone)
         retry.push_back(f);
     const std::vector<geom::Vec3>& node_points = M.points;
     parallel_indices(arena, retry.size(), [&](std::size_t k) {
@@ -575,7 +610,9 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       if (!fields[f]) build_field(f);
       detail::FaceMesh r;
       try {
-        if (fields[f]) r = detail::mesh_face(m, static_cast<geom::Id>(f), edges, node_points, *fields[f], opt, true);
+        if (fields[f])
+          r = detail::mesh_face(m, static_cast<geom::Id>(f), edges, node_points, *fields[f], opt,
+                                true);
       } catch (...) {
         r = {};
         r.error = fm[f].error;
@@ -583,15 +620,19 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
       fields[f].reset();
       r.stats.face = static_cast<geom::Id>(f);
       r.stats.seconds = fm[f].stats.seconds + seconds_since(tf);
-      if (r.error.empty()) face_error[f].clear();
-      else face_error[f] = r.error;
+      if (r.error.empty())
+        face_error[f].clear();
+      else
+        face_error[f] = r.error;
       fm[f] = std::move(r);
     });
     for (std::size_t f : retry)
       if (fm[f].from_boundary)
-        res.warnings.push_back("face " + std::to_string(f) +
-                               ": its (u,v) boundary is unusable (pcurves cross or coincide); triangulated from its " +
-                               std::to_string(fm[f].stats.boundary_nodes) + " boundary nodes, within the chordal tolerance");
+        res.warnings.push_back(
+            "face " + std::to_string(f) +
+            ": its (u,v) boundary is unusable (pcurves cross or coincide); triangulated from its " +
+            std::to_string(fm[f].stats.boundary_nodes) +
+            " boundary nodes, within the chordal tolerance");
     t_faces += seconds_since(tf0);
   }
   res.stages.push_back({"faces", t_faces});
@@ -604,7 +645,9 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   {
     std::size_t add_points = 0, add_tris = 0;
     for (std::size_t f = 0; f < nf; ++f)
-      if (face_error[f].empty() && twin_of[f] == geom::kNone && !m.faces[f].degenerate && !collapsed[f]) add_points += fm[f].points.size(), add_tris += fm[f].tris.size();
+      if (face_error[f].empty() && twin_of[f] == geom::kNone && !m.faces[f].degenerate &&
+          !collapsed[f])
+        add_points += fm[f].points.size(), add_tris += fm[f].tris.size();
     M.points.reserve(M.points.size() + add_points);
     M.point_dim.reserve(M.points.capacity());
     M.point_entity.reserve(M.points.capacity());
@@ -638,7 +681,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     }
     for (std::size_t t = 0; t < F.tris.size(); ++t) {
       std::array<NodeId, 3> g{};
-      for (int i = 0; i < 3; ++i) g[i] = F.tris[t][i] >= 0 ? F.tris[t][i] : base + (-F.tris[t][i] - 1);
+      for (int i = 0; i < 3; ++i)
+        g[i] = F.tris[t][i] >= 0 ? F.tris[t][i] : base + (-F.tris[t][i] - 1);
       M.triangles.push_back(g);
       M.triangle_face.push_back(static_cast<geom::Id>(f));
       M.triangle_uv.push_back(F.tri_uv[t]);
@@ -654,7 +698,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   std::vector<char> used(M.points.size(), 0);
   for (const auto& t : M.triangles)
     for (NodeId v : t) used[static_cast<std::size_t>(v)] = 1;
-  for (const auto& s : M.segments) used[static_cast<std::size_t>(s.a)] = used[static_cast<std::size_t>(s.b)] = 1;
+  for (const auto& s : M.segments)
+    used[static_cast<std::size_t>(s.a)] = used[static_cast<std::size_t>(s.b)] = 1;
   if (std::find(used.begin(), used.end(), 0) != used.end()) {
     std::vector<NodeId> nid(M.points.size(), -1);
     NodeId k = 0;
@@ -673,7 +718,8 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
     M.point_t.resize(static_cast<std::size_t>(k));
     for (auto& t : M.triangles)
       for (NodeId& v : t) v = nid[static_cast<std::size_t>(v)];
-    for (auto& s : M.segments) s.a = nid[static_cast<std::size_t>(s.a)], s.b = nid[static_cast<std::size_t>(s.b)];
+    for (auto& s : M.segments)
+      s.a = nid[static_cast<std::size_t>(s.a)], s.b = nid[static_cast<std::size_t>(s.b)];
   }
   res.stages.push_back({"stitch", seconds_since(t0)});
   res.stages.push_back({"total", seconds_since(t_all)});

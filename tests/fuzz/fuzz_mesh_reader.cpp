@@ -49,11 +49,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::size_t np = m.points.size();
   for (const auto& t : m.triangles)
     for (const auto v : t)
-      if (v < 0 || static_cast<std::size_t>(v) >= np) finding("triangle vertex " + std::to_string(v) + " of " + std::to_string(np));
+      if (v < 0 || static_cast<std::size_t>(v) >= np)
+        finding("triangle vertex " + std::to_string(v) + " of " + std::to_string(np));
   for (const auto& s : m.segments)
-    if (s.a < 0 || s.b < 0 || static_cast<std::size_t>(s.a) >= np || static_cast<std::size_t>(s.b) >= np)
+    if (s.a < 0 || s.b < 0 || static_cast<std::size_t>(s.a) >= np ||
+        static_cast<std::size_t>(s.b) >= np)
       finding("segment vertex out of range");
   if (m.triangle_face.size() != m.triangles.size()) finding("triangle_face size");
-  if (m.point_dim.size() != np || m.point_entity.size() != np) finding("point_dim/point_entity size");
+  if (m.point_dim.size() != np || m.point_entity.size() != np)
+    finding("point_dim/point_entity size");
   return 0;
 }

@@ -18,8 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                                           uvmesh::geom::SubdScheme::CatmullClark,
                                                           uvmesh::geom::SubdScheme::Loop};
   static constexpr uvmesh::geom::SubdBoundary kBoundaries[] = {
-      uvmesh::geom::SubdBoundary::FromFile, uvmesh::geom::SubdBoundary::None, uvmesh::geom::SubdBoundary::EdgeOnly,
-      uvmesh::geom::SubdBoundary::EdgeAndCorner};
+      uvmesh::geom::SubdBoundary::FromFile, uvmesh::geom::SubdBoundary::None,
+      uvmesh::geom::SubdBoundary::EdgeOnly, uvmesh::geom::SubdBoundary::EdgeAndCorner};
   o.scheme = kSchemes[size % 3];
   o.boundary = kBoundaries[(size / 3) % 4];
   const uvmesh::geom::SubdModelResult m = uvmesh::geom::model_from_cage(c.cage, o);

@@ -36,22 +36,28 @@ double snap(double x, double step) {
 // a regression file and a report to mesher2d's owner.
 void print_poly(const m2d::Pslg& p, std::FILE* out) {
   std::fprintf(out, "%zu 2 0 0\n", p.points.size());
-  for (std::size_t i = 0; i < p.points.size(); ++i) std::fprintf(out, "%zu %.17g %.17g\n", i, p.points[i].x, p.points[i].y);
+  for (std::size_t i = 0; i < p.points.size(); ++i)
+    std::fprintf(out, "%zu %.17g %.17g\n", i, p.points[i].x, p.points[i].y);
   std::fprintf(out, "%zu 0\n", p.segments.size());
   for (std::size_t i = 0; i < p.segments.size(); ++i)
-    std::fprintf(out, "%zu %d %d\n", i, static_cast<int>(p.segments[i].a), static_cast<int>(p.segments[i].b));
+    std::fprintf(out, "%zu %d %d\n", i, static_cast<int>(p.segments[i].a),
+                 static_cast<int>(p.segments[i].b));
   std::fprintf(out, "%zu\n", p.holes.size());
-  for (std::size_t i = 0; i < p.holes.size(); ++i) std::fprintf(out, "%zu %.17g %.17g\n", i, p.holes[i].x, p.holes[i].y);
+  for (std::size_t i = 0; i < p.holes.size(); ++i)
+    std::fprintf(out, "%zu %.17g %.17g\n", i, p.holes[i].x, p.holes[i].y);
   std::fprintf(out, "%zu\n", p.regions.size());
   for (std::size_t i = 0; i < p.regions.size(); ++i)
-    std::fprintf(out, "%zu %.17g %.17g %.17g\n", i, p.regions[i].seed.x, p.regions[i].seed.y, p.regions[i].attribute);
+    std::fprintf(out, "%zu %.17g %.17g %.17g\n", i, p.regions[i].seed.x, p.regions[i].seed.y,
+                 p.regions[i].attribute);
 }
 
 [[noreturn]] void finding(const char* what, const std::string& detail, const m2d::Pslg& p, double h,
                           const m2d::Options& opt) {
   std::fprintf(stderr, "fuzz_poly_mesh2d: %s: %s\n", what, detail.c_str());
-  std::fprintf(stderr, "fuzz_poly_mesh2d: uniform size %g, split_crossing_segments %d, optimize %d; the PSLG:\n", h,
-               opt.split_crossing_segments ? 1 : 0, opt.optimize ? 1 : 0);
+  std::fprintf(
+      stderr,
+      "fuzz_poly_mesh2d: uniform size %g, split_crossing_segments %d, optimize %d; the PSLG:\n", h,
+      opt.split_crossing_segments ? 1 : 0, opt.optimize ? 1 : 0);
   print_poly(p, stderr);
   std::abort();
 }
@@ -63,7 +69,8 @@ void print_poly(const m2d::Pslg& p, std::FILE* out) {
 // them so that the run goes on to find other things.
 bool point_inside_a_segment(const m2d::Pslg& p) {
   for (const m2d::Pslg::Segment& s : p.segments) {
-    const m2d::Vec2 a = p.points[static_cast<std::size_t>(s.a)], b = p.points[static_cast<std::size_t>(s.b)];
+    const m2d::Vec2 a = p.points[static_cast<std::size_t>(s.a)],
+                    b = p.points[static_cast<std::size_t>(s.b)];
     for (const m2d::Vec2& q : p.points) {
       const double cross = (b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x);
       const double dot = (q.x - a.x) * (b.x - a.x) + (q.y - a.y) * (b.y - a.y);
@@ -94,13 +101,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::vector<m2d::VertId> to(p.points.size());
     std::vector<m2d::Vec2> kept;
     for (std::size_t i = 0; i < p.points.size(); ++i) {
-      const auto [it, added] = first.try_emplace({p.points[i].x, p.points[i].y}, static_cast<m2d::VertId>(kept.size()));
+      const auto [it, added] =
+          first.try_emplace({p.points[i].x, p.points[i].y}, static_cast<m2d::VertId>(kept.size()));
       if (added) kept.push_back(p.points[i]);
       to[i] = it->second;
     }
     p.points = std::move(kept);
     p.point_markers.clear();
-    for (m2d::Pslg::Segment& s : p.segments) s.a = to[static_cast<std::size_t>(s.a)], s.b = to[static_cast<std::size_t>(s.b)];
+    for (m2d::Pslg::Segment& s : p.segments)
+      s.a = to[static_cast<std::size_t>(s.a)], s.b = to[static_cast<std::size_t>(s.b)];
   }
   for (m2d::Vec2& h : p.holes) h = {snap(h.x, 0.5), snap(h.y, 0.5)};
   for (m2d::Pslg::Region& g : p.regions) g.seed = {snap(g.seed.x, 0.5), snap(g.seed.y, 0.5)};
@@ -114,7 +123,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   opt.split_crossing_segments = (size / 4) % 2 == 1;
   opt.optimize = (size / 8) % 2 == 0;
   const m2d::Result res = m2d::mesh(p, size_spec, opt);
-  if (res.status.code == m2d::StatusCode::InternalError) finding("InternalError", res.status.message, p, h, opt);
+  if (res.status.code == m2d::StatusCode::InternalError)
+    finding("InternalError", res.status.message, p, h, opt);
   if (res.ok() && !opt.split_crossing_segments && !point_inside_a_segment(p)) {
     // Crossing segments split by the mesher are no longer the input's segments.
     // Seeds are not checked: snapped to half-integers they often sit on a segment or

@@ -1,9 +1,8 @@
 // Finite-difference checks of surface and curve derivatives, shared by the back-end tests.
 #pragma once
 
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
 
@@ -15,9 +14,11 @@ namespace uvmesh::test {
 /// Central differences of sigma and its first derivatives at (u,v) with steps h_u, h_v;
 /// returns the largest error relative to `scale` (a length of the patch's image, so the
 /// check is unit-free). Exact derivatives give O(h^2) errors.
-inline double surface_fd_error(const geom::Surface& s, double u, double v, double hu, double hv, double scale) {
+inline double surface_fd_error(const geom::Surface& s, double u, double v, double hu, double hv,
+                               double scale) {
   const geom::SurfacePoint e = s.eval(u, v);
-  const auto pu = s.eval(u + hu, v), mu = s.eval(u - hu, v), pv = s.eval(u, v + hv), mv = s.eval(u, v - hv);
+  const auto pu = s.eval(u + hu, v), mu = s.eval(u - hu, v), pv = s.eval(u, v + hv),
+             mv = s.eval(u, v - hv);
   // First derivatives scaled by the step (lengths), second by the step squared.
   double err = 0.0;
   auto upd = [&](const geom::Vec3& fd, const geom::Vec3& an, double step) {

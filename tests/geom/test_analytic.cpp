@@ -1,7 +1,6 @@
 // Analytic back end: derivatives against finite differences, parametrisation facts,
 // poles, arc length.
 #include <catch2/catch.hpp>
-
 #include <numbers>
 #include <random>
 
@@ -17,7 +16,8 @@ const double kPi = std::numbers::pi;
 std::vector<Vec3> wavy_grid(int nu, int nv) {
   std::vector<Vec3> c;
   for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) c.push_back({1.3 * i, 0.8 * j + 0.1 * i * i, std::sin(1.1 * i) * std::cos(0.7 * j)});
+    for (int j = 0; j < nv; ++j)
+      c.push_back({1.3 * i, 0.8 * j + 0.1 * i * i, std::sin(1.1 * i) * std::cos(0.7 * j)});
   return c;
 }
 }  // namespace
@@ -50,12 +50,13 @@ TEST_CASE("analytic surfaces: derivatives match finite differences", "[geom][ana
 
 TEST_CASE("analytic surfaces follow OCC's parametrisations", "[geom][analytic]") {
   const geom::Frame f;
-  CHECK(glm::length(geom::make_cylinder(f, 2, {0, 1})->point(kPi / 2, 1.0) - Vec3(0, 2, 1)) < 1e-15);
+  CHECK(glm::length(geom::make_cylinder(f, 2, {0, 1})->point(kPi / 2, 1.0) - Vec3(0, 2, 1)) <
+        1e-15);
   CHECK(glm::length(geom::make_sphere(f, 2)->point(0.0, kPi / 2) - Vec3(0, 0, 2)) < 1e-15);
   CHECK(glm::length(geom::make_torus(f, 3, 1)->point(0.0, kPi) - Vec3(2, 0, 0)) < 1e-15);
   const double a = 0.3;
-  CHECK(glm::length(geom::make_cone(f, 1, a, {0, 2})->point(0.0, 2.0) - Vec3(1 + 2 * std::sin(a), 0, 2 * std::cos(a))) <
-        1e-15);
+  CHECK(glm::length(geom::make_cone(f, 1, a, {0, 2})->point(0.0, 2.0) -
+                    Vec3(1 + 2 * std::sin(a), 0, 2 * std::cos(a))) < 1e-15);
   // A clamped B-spline interpolates its corner control points.
   const auto c = wavy_grid(6, 7);
   const auto s = geom::make_bspline_patch(c, 6, 7);
@@ -65,7 +66,8 @@ TEST_CASE("analytic surfaces follow OCC's parametrisations", "[geom][analytic]")
   CHECK_THROWS(geom::make_bspline_patch(c, 6, 6));
 }
 
-TEST_CASE("poles: analytic singular sides and the sampling detector agree", "[geom][analytic][pole]") {
+TEST_CASE("poles: analytic singular sides and the sampling detector agree",
+          "[geom][analytic][pole]") {
   const geom::Frame f;
   auto sphere = geom::make_sphere(f, 2.0);
   CHECK(sphere->singular_sides() == (geom::kSideVMin | geom::kSideVMax));
@@ -91,7 +93,8 @@ TEST_CASE("periodicity: analytic surfaces repeat with their period", "[geom][ana
   auto torus = geom::make_torus(geom::Frame{}, 3, 1);
   REQUIRE(torus->u_periodic());
   REQUIRE(torus->v_periodic());
-  const auto a = torus->eval(0.4, 0.9), b = torus->eval(0.4 + torus->u_period(), 0.9 + torus->v_period());
+  const auto a = torus->eval(0.4, 0.9),
+             b = torus->eval(0.4 + torus->u_period(), 0.9 + torus->v_period());
   CHECK(glm::length(a.p - b.p) < 1e-14);
   CHECK(glm::length(a.du - b.du) < 1e-14);
   auto cyl = geom::make_cylinder(geom::Frame{}, 1, {0, 1});

@@ -2,7 +2,6 @@
 // plus a loose planar face, so that seams, free edges, non-manifold edges and short
 // edges are all exercised without OCC.
 #include <catch2/catch.hpp>
-
 #include <numbers>
 
 #include "uvmesh/geom/analytic.h"
@@ -66,7 +65,8 @@ TEST_CASE("stats: seam, free edges and kinds of a cylinder side", "[geom][model]
     for (const geom::EdgeUse& u : l.uses)
       for (double t : {u.range.lo, u.range.mid(), u.range.hi}) {
         const Vec2 uv = u.pcurve->point(t);
-        CHECK(glm::length(m.faces[0].surface->point(uv.x, uv.y) - m.edges[u.edge].curve->point(t)) < 1e-12);
+        CHECK(glm::length(m.faces[0].surface->point(uv.x, uv.y) - m.edges[u.edge].curve->point(t)) <
+              1e-12);
       }
 }
 
@@ -83,8 +83,13 @@ TEST_CASE("stats: non-manifold, degenerate, short edges and vertex gaps", "[geom
   }
   // A degenerate edge and a very short edge.
   m.edges.push_back({nullptr, {0, 1}, 0, 0, true, 1e-7, 0.0});
-  m.edges.push_back(
-      {geom::make_line({1, 0, 0}, {0, 0, 1}, {0, 1e-4}), {0, 1e-4}, geom::kNone, geom::kNone, false, 1e-7, 1e-4});
+  m.edges.push_back({geom::make_line({1, 0, 0}, {0, 0, 1}, {0, 1e-4}),
+                     {0, 1e-4},
+                     geom::kNone,
+                     geom::kNone,
+                     false,
+                     1e-7,
+                     1e-4});
   // Corrupt vertex 1: far from the ends of the edges it bounds.
   m.vertices[1].p = {1e6, 0, 2};
   const geom::ModelStats s = geom::compute_stats(m);
@@ -131,8 +136,10 @@ geom::Model strip_closed_by_tolerance() {
 }
 }  // namespace
 
-TEST_CASE("split vertices: an edge closed by its vertex's tolerance alone gets two vertices (occt_caxif_k1)",
-          "[geom][model]") {
+TEST_CASE(
+    "split vertices: an edge closed by its vertex's tolerance alone gets two vertices "
+    "(occt_caxif_k1)",
+    "[geom][model]") {
   geom::Model m = strip_closed_by_tolerance();
   CHECK(geom::split_vertices_closing_open_edges(m) == 2);
   REQUIRE(m.vertices.size() == 4);
@@ -145,8 +152,10 @@ TEST_CASE("split vertices: an edge closed by its vertex's tolerance alone gets t
   // Every edge open, every vertex at the curve ends it bounds, the loop chained.
   for (const geom::Edge& e : m.edges) {
     CHECK(e.v0 != e.v1);
-    CHECK(glm::length(m.vertices[static_cast<std::size_t>(e.v0)].p - e.curve->point(e.range.lo)) < 1e-12);
-    CHECK(glm::length(m.vertices[static_cast<std::size_t>(e.v1)].p - e.curve->point(e.range.hi)) < 1e-12);
+    CHECK(glm::length(m.vertices[static_cast<std::size_t>(e.v0)].p - e.curve->point(e.range.lo)) <
+          1e-12);
+    CHECK(glm::length(m.vertices[static_cast<std::size_t>(e.v1)].p - e.curve->point(e.range.hi)) <
+          1e-12);
   }
   for (std::size_t k = 0; k < 4; ++k) CHECK(m.edges[k].v1 == m.edges[(k + 1) % 4].v0);
   // The tolerances shrink to what the vertices now need (the edges' own).
@@ -156,7 +165,8 @@ TEST_CASE("split vertices: an edge closed by its vertex's tolerance alone gets t
   CHECK(geom::split_vertices_closing_open_edges(m) == 0);
 }
 
-TEST_CASE("split vertices: closed curves, and loops that would open, are left alone", "[geom][model]") {
+TEST_CASE("split vertices: closed curves, and loops that would open, are left alone",
+          "[geom][model]") {
   // Circles closed within their tolerance.
   geom::Model c = cylinder_model();
   CHECK(geom::split_vertices_closing_open_edges(c) == 0);

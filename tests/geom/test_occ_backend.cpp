@@ -1,15 +1,13 @@
 // OCC back end: exact curvature and point-by-point agreement with the analytic back end
 // on OCC primitives; derivatives against finite differences and pcurve/curve/surface
 // consistency on every surface kind of the corpus; poles and loop orientation.
-#include <catch2/catch.hpp>
-
 #include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
-#include <gp_Ax2.hxx>
-
+#include <catch2/catch.hpp>
 #include <cmath>
+#include <gp_Ax2.hxx>
 #include <map>
 #include <numbers>
 #include <random>
@@ -60,7 +58,8 @@ double loop_area(const geom::Loop& l) {
 
 }  // namespace
 
-TEST_CASE("occ: curvature is exact on OCC sphere, cylinder, cone and torus", "[geom][occ][curvature]") {
+TEST_CASE("occ: curvature is exact on OCC sphere, cylinder, cone and torus",
+          "[geom][occ][curvature]") {
   const gp_Ax2 ax(gp_Pnt(1, 2, 3), gp_Dir(0.2, -0.3, 1.0));
   const double R1 = 3.0, R2 = 1.0, H = 4.0;
   const double half_angle = std::atan((R1 - R2) / H);
@@ -68,10 +67,11 @@ TEST_CASE("occ: curvature is exact on OCC sphere, cylinder, cone and torus", "[g
     TopoDS_Shape shape;
     geom::SurfaceKind kind;
   };
-  const std::vector<Case> cases = {{BRepPrimAPI_MakeSphere(ax, 2.5).Shape(), geom::SurfaceKind::Sphere},
-                                   {BRepPrimAPI_MakeCylinder(ax, 1.5, 5.0).Shape(), geom::SurfaceKind::Cylinder},
-                                   {BRepPrimAPI_MakeCone(ax, R1, R2, H).Shape(), geom::SurfaceKind::Cone},
-                                   {BRepPrimAPI_MakeTorus(ax, 5.0, 1.25).Shape(), geom::SurfaceKind::Torus}};
+  const std::vector<Case> cases = {
+      {BRepPrimAPI_MakeSphere(ax, 2.5).Shape(), geom::SurfaceKind::Sphere},
+      {BRepPrimAPI_MakeCylinder(ax, 1.5, 5.0).Shape(), geom::SurfaceKind::Cylinder},
+      {BRepPrimAPI_MakeCone(ax, R1, R2, H).Shape(), geom::SurfaceKind::Cone},
+      {BRepPrimAPI_MakeTorus(ax, 5.0, 1.25).Shape(), geom::SurfaceKind::Torus}};
   const Vec3 origin(1, 2, 3), axis = glm::normalize(Vec3(0.2, -0.3, 1.0));
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> U(0.05, 0.95);
@@ -86,7 +86,8 @@ TEST_CASE("occ: curvature is exact on OCC sphere, cylinder, cone and torus", "[g
         const geom::SurfacePoint e = f.surface->eval(u, v);
         const param::Curvature k = param::principal_curvatures(e);
         const Vec3 rel = e.p - origin;
-        const double radius = glm::length(rel - glm::dot(rel, axis) * axis);  // distance to the axis
+        const double radius =
+            glm::length(rel - glm::dot(rel, axis) * axis);  // distance to the axis
         switch (c.kind) {
           case geom::SurfaceKind::Sphere:
             CHECK(std::abs(k.k1) == Approx(1 / 2.5));
@@ -100,7 +101,8 @@ TEST_CASE("occ: curvature is exact on OCC sphere, cylinder, cone and torus", "[g
             CHECK(std::abs(k.k1) == Approx(std::cos(half_angle) / radius));
             CHECK(k.k2 == Approx(0).margin(1e-12));
             break;
-          default: {  // torus: 1/r across the tube, cos(v)/(R + r cos v) = (radius - R)/(r radius) along
+          default: {  // torus: 1/r across the tube, cos(v)/(R + r cos v) = (radius - R)/(r radius)
+                      // along
             const double ka = 1 / 1.25, kb = (radius - 5.0) / (1.25 * radius);
             CHECK(std::abs(k.k1) == Approx(std::max(ka, std::abs(kb))));
             CHECK(std::abs(k.k2) == Approx(std::min(ka, std::abs(kb))).margin(1e-12));
@@ -113,7 +115,8 @@ TEST_CASE("occ: curvature is exact on OCC sphere, cylinder, cone and torus", "[g
   }
 }
 
-TEST_CASE("occ: sphere face evaluates like the analytic sphere (same parametrisation)", "[geom][occ]") {
+TEST_CASE("occ: sphere face evaluates like the analytic sphere (same parametrisation)",
+          "[geom][occ]") {
   const gp_Ax2 ax(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1), gp_Dir(1, 0, 0));
   const geom::Model m = geom::model_from_occ(BRepPrimAPI_MakeSphere(ax, 2.0).Shape(), {});
   auto ana = geom::make_sphere(geom::Frame{}, 2.0);
@@ -139,11 +142,10 @@ TEST_CASE("occ: sphere face evaluates like the analytic sphere (same parametrisa
 TEST_CASE("occ: derivatives match finite differences on every corpus surface kind", "[geom][occ]") {
   // Together these cover planar, cylinder, cone, sphere, torus, bspline, bezier,
   // revolution, extrusion and offset surfaces.
-  const std::vector<std::string> files = {"cad/occt_screw.step",      "cad/occt_spheres.stp",
-                                          "cad/gmsh_capot.brep",      "cad/occt_cone_catia.igs",
-                                          "cad/gmsh_t106_blade.step", "cad/occt_offset_tube.igs",
-                                          "cad/occt_bottle.brep",     "cad/gmsh_full_sphere.brep",
-                                          "cad/occt_propeller.brep"};
+  const std::vector<std::string> files = {
+      "cad/occt_screw.step",     "cad/occt_spheres.stp",      "cad/gmsh_capot.brep",
+      "cad/occt_cone_catia.igs", "cad/gmsh_t106_blade.step",  "cad/occt_offset_tube.igs",
+      "cad/occt_bottle.brep",    "cad/gmsh_full_sphere.brep", "cad/occt_propeller.brep"};
   std::set<std::string> kinds;
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> U(0.1, 0.9);
@@ -171,14 +173,16 @@ TEST_CASE("occ: derivatives match finite differences on every corpus surface kin
       CHECK(test::curve_fd_error(*e.curve, t, h, diag) < 1e-7);
     }
   }
-  for (const char* k : {"planar", "cylinder", "cone", "sphere", "torus", "bspline", "bezier", "revolution",
-                        "extrusion", "offset"})
+  for (const char* k : {"planar", "cylinder", "cone", "sphere", "torus", "bspline", "bezier",
+                        "revolution", "extrusion", "offset"})
     CHECK(kinds.count(k) == 1);
 }
 
-TEST_CASE("occ: pcurves map onto their edges through the surface; loops are oriented", "[geom][occ][seam]") {
-  const std::vector<std::string> files = {"cad/occt_engine_block.brep", "cad/nist_ctc_01.stp", "cad/occt_screw.step",
-                                          "cad/gmsh_torus1.brep",       "cad/gmsh_cone1.brep", "cad/occt_spheres.stp",
+TEST_CASE("occ: pcurves map onto their edges through the surface; loops are oriented",
+          "[geom][occ][seam]") {
+  const std::vector<std::string> files = {"cad/occt_engine_block.brep", "cad/nist_ctc_01.stp",
+                                          "cad/occt_screw.step",        "cad/gmsh_torus1.brep",
+                                          "cad/gmsh_cone1.brep",        "cad/occt_spheres.stp",
                                           "cad/gmsh_cyl_loop_seam.brep"};
   for (const std::string& file : files) {
     const geom::Model m = load(file);
@@ -202,16 +206,20 @@ TEST_CASE("occ: pcurves map onto their edges through the surface; loops are orie
         // their natural orientation; Face::reversed carries the material side).
         if (f.loops.size() > 1 || !f.surface->u_periodic()) {
           const double a = loop_area(l);
-          if (l.outer) CHECK(a > 0.0);
-          else CHECK(a < 0.0);
+          if (l.outer)
+            CHECK(a > 0.0);
+          else
+            CHECK(a < 0.0);
         }
       }
     }
   }
 }
 
-TEST_CASE("occ: poles are explicit -- degenerate edges lie on singular sides", "[geom][occ][pole]") {
-  for (const std::string file : {"cad/gmsh_full_sphere.brep", "cad/occt_spheres.stp", "cad/gmsh_cone1.brep"}) {
+TEST_CASE("occ: poles are explicit -- degenerate edges lie on singular sides",
+          "[geom][occ][pole]") {
+  for (const std::string file :
+       {"cad/gmsh_full_sphere.brep", "cad/occt_spheres.stp", "cad/gmsh_cone1.brep"}) {
     const geom::Model m = load(file);
     int poles = 0;
     for (const geom::Face& f : m.faces)
@@ -225,8 +233,10 @@ TEST_CASE("occ: poles are explicit -- degenerate edges lie on singular sides", "
           const Vec2 a = u.pcurve->point(u.range.lo), b = u.pcurve->point(u.range.hi);
           const geom::Box2 bx = f.uv_box;
           const double tu = 1e-9 * bx.u.length() + 1e-12, tv = 1e-9 * bx.v.length() + 1e-12;
-          const bool on_v_side = std::abs(a.y - b.y) <= tv && (std::abs(a.y - bx.v.lo) <= tv || std::abs(a.y - bx.v.hi) <= tv);
-          const bool on_u_side = std::abs(a.x - b.x) <= tu && (std::abs(a.x - bx.u.lo) <= tu || std::abs(a.x - bx.u.hi) <= tu);
+          const bool on_v_side = std::abs(a.y - b.y) <= tv &&
+                                 (std::abs(a.y - bx.v.lo) <= tv || std::abs(a.y - bx.v.hi) <= tv);
+          const bool on_u_side = std::abs(a.x - b.x) <= tu &&
+                                 (std::abs(a.x - bx.u.lo) <= tu || std::abs(a.x - bx.u.hi) <= tu);
           CHECK((on_u_side || on_v_side));
         }
     CHECK(poles > 0);

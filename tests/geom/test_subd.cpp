@@ -2,7 +2,6 @@
 // finite differences, shared patch boundaries (same t, same point on every side), model
 // topology (closed cages closed, holes, boundary interpolation, non-manifold cages).
 #include <catch2/catch.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -18,7 +17,9 @@ using geom::Vec3;
 
 namespace {
 
-std::string cage_path(const std::string& name) { return std::string(UVMESH_SHARED_DATA) + "/subd/" + name; }
+std::string cage_path(const std::string& name) {
+  return std::string(UVMESH_SHARED_DATA) + "/subd/" + name;
+}
 
 geom::SubdCageResult parse(const std::string& text, const std::string& name = "mem.obj") {
   std::istringstream in(text);
@@ -37,14 +38,15 @@ const char* kCube =
     "f 1 2 4 3\nf 3 4 6 5\nf 5 6 8 7\nf 7 8 2 1\nf 2 8 6 4\nf 7 1 3 5\n";
 
 const std::vector<std::string> kCages = {
-    "catmark_car.obj",          "catmark_chaikin0.obj",      "catmark_cube.obj",
-    "catmark_cube_creases1.obj", "catmark_helmet.obj",       "catmark_nonman_edges.obj",
-    "catmark_pawn.obj",         "catmark_pole64.obj",        "catmark_tent_creases1.obj",
-    "catmark_torus.obj",        "loop_cube_creases1.obj",    "loop_icosahedron.obj"};
+    "catmark_car.obj",           "catmark_chaikin0.obj",   "catmark_cube.obj",
+    "catmark_cube_creases1.obj", "catmark_helmet.obj",     "catmark_nonman_edges.obj",
+    "catmark_pawn.obj",          "catmark_pole64.obj",     "catmark_tent_creases1.obj",
+    "catmark_torus.obj",         "loop_cube_creases1.obj", "loop_icosahedron.obj"};
 
 bool closed_cage(const std::string& n) {
-  return n == "catmark_chaikin0.obj" || n == "catmark_cube.obj" || n == "catmark_cube_creases1.obj" ||
-         n == "catmark_torus.obj" || n == "loop_cube_creases1.obj" || n == "loop_icosahedron.obj";
+  return n == "catmark_chaikin0.obj" || n == "catmark_cube.obj" ||
+         n == "catmark_cube_creases1.obj" || n == "catmark_torus.obj" ||
+         n == "loop_cube_creases1.obj" || n == "loop_icosahedron.obj";
 }
 
 }  // namespace
@@ -54,7 +56,8 @@ TEST_CASE("subd OBJ: vertices, faces, negative indices, tags", "[geom][subd]") {
       "# comment\nv 0 0 0\nv 1 0 0\nvt 0 0\nv 1 1 0\nvn 0 0 1\nv 0 1 0\n"
       "f 1/1 2//1 3/1/1 4\nf -4 -3 -2\n"
       "t crease 3/1/0 0 1 2 2.5\nt corner 1/1/0 3 4.0\nt hole 1/0/0 1\n"
-      "t interpolateboundary 1/0/0 2\nt creasemethod 0/0/1 chaikin\nt facevaryingpropagatecorners 1/0/0 1\n");
+      "t interpolateboundary 1/0/0 2\nt creasemethod 0/0/1 chaikin\nt facevaryingpropagatecorners "
+      "1/0/0 1\n");
   INFO(r.error);
   REQUIRE(r.ok);
   const auto& c = r.cage;
@@ -100,9 +103,7 @@ TEST_CASE("subd OBJ: malformed input gives one message naming the file and line"
   }
   // The same through a file on disk (read_subd names the path).
   const auto path = std::filesystem::temp_directory_path() / "uvmesh_test_subd_bad.obj";
-  {
-    std::ofstream(path) << v4 << "f 1 2 3 5\n";
-  }
+  { std::ofstream(path) << v4 << "f 1 2 3 5\n"; }
   const auto r = geom::read_subd(path.string(), {});
   std::filesystem::remove(path);
   CHECK(!r.ok);
@@ -120,7 +121,8 @@ TEST_CASE("subd model: tags naming missing vertices, edges or faces are errors",
     return r.error;
   };
   CHECK(err("t crease 2/1/0 0 8 1.0\n").rfind("t.obj:15: crease names vertex 8", 0) == 0);
-  CHECK(err("t crease 2/1/0 0 5 1.0\n").rfind("t.obj:15: crease names vertices 0 and 5 which share no edge", 0) == 0);
+  CHECK(err("t crease 2/1/0 0 5 1.0\n")
+            .rfind("t.obj:15: crease names vertices 0 and 5 which share no edge", 0) == 0);
   CHECK(err("t corner 1/1/0 12 1.0\n").rfind("t.obj:15: corner names vertex 12", 0) == 0);
   CHECK(err("t hole 1/0/0 6\n").rfind("t.obj:15: hole names face 6", 0) == 0);
   // Loop needs triangles.
@@ -184,8 +186,8 @@ TEST_CASE("subd model: schemes, holes, boundary interpolation", "[geom][subd]") 
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 3; ++i) {
         const int a = j * 4 + i + 1;
-        g += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " + std::to_string(a + 5) + " " +
-             std::to_string(a + 4) + "\n";
+        g += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " + std::to_string(a + 5) +
+             " " + std::to_string(a + 4) + "\n";
       }
     geom::SubdOptions o;
     o.boundary = geom::SubdBoundary::None;
@@ -212,7 +214,8 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
     INFO(r.error);
     REQUIRE(r.ok);
     const geom::Model& m = r.model;
-    CHECK(r.scheme == (name.rfind("loop", 0) == 0 ? geom::SubdScheme::Loop : geom::SubdScheme::CatmullClark));
+    CHECK(r.scheme ==
+          (name.rfind("loop", 0) == 0 ? geom::SubdScheme::Loop : geom::SubdScheme::CatmullClark));
     REQUIRE(!m.faces.empty());
     CHECK(r.patches.size() == m.faces.size());
     const double D = m.bbox.diagonal();
@@ -222,7 +225,8 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
     // Derivatives against finite differences on a sample of patches.
     int checked = 0;
     double worst = 0, worst_first = 0;
-    for (std::size_t f = 0; f < m.faces.size(); f += std::max<std::size_t>(1, m.faces.size() / 60)) {
+    for (std::size_t f = 0; f < m.faces.size();
+         f += std::max<std::size_t>(1, m.faces.size() / 60)) {
       const geom::Surface& s = *m.faces[f].surface;
       const geom::SubdPatch& P = r.patches[f];
       for (int k = 0; k < 6; ++k) {
@@ -308,7 +312,8 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
   }
 }
 
-TEST_CASE("subd model: a Catmull-Clark n-gon is one patch on its flattened limit polygon", "[geom][subd]") {
+TEST_CASE("subd model: a Catmull-Clark n-gon is one patch on its flattened limit polygon",
+          "[geom][subd]") {
   // catmark_pole64: 64 triangles around a valence-64 pole, 64 quads. Each triangle was 3
   // sub-face patches whose spokes, as mesh edges, cut 5-16 degree corners into the thin
   // triangles (a third of the triangles of the mesh had Q >= 1.5); it is one patch now.
@@ -332,8 +337,12 @@ TEST_CASE("subd model: a Catmull-Clark n-gon is one patch on its flattened limit
         const Vec2 b = geom::subd_patch_domain_point(P, (k + 1) % 3, {j / 10.0, 1.0});
         CHECK(glm::length(a - b) < 1e-12);
         const Vec2 nrm = glm::normalize(Vec2(P.centre.y - a.y, a.x - P.centre.x)) * 1e-9;
-        if (j < 10) gap = std::max(gap, glm::length(s.point(a.x + nrm.x, a.y + nrm.y) - s.point(a.x - nrm.x, a.y - nrm.y)));
-        const Vec2 st = geom::ngon_subface_coords(P.polygon, P.centre, k, geom::ngon_domain_point(P.polygon, P.centre, k, {0.3, j / 10.0}));
+        if (j < 10)
+          gap = std::max(gap, glm::length(s.point(a.x + nrm.x, a.y + nrm.y) -
+                                          s.point(a.x - nrm.x, a.y - nrm.y)));
+        const Vec2 st = geom::ngon_subface_coords(
+            P.polygon, P.centre, k,
+            geom::ngon_domain_point(P.polygon, P.centre, k, {0.3, j / 10.0}));
         back = std::max(back, glm::length(st - Vec2(0.3, j / 10.0)));
       }
   }
@@ -359,8 +368,10 @@ double arc_over_chord(const geom::Surface& s, Vec2 a, Vec2 b) {
 }
 }  // namespace
 
-TEST_CASE("subd model: catmark_pole64 patches at the valence-64 pole are projected and straight (u,v) segments across them nearly straight in 3D",
-          "[geom][subd]") {
+TEST_CASE(
+    "subd model: catmark_pole64 patches at the valence-64 pole are projected and straight (u,v) "
+    "segments across them nearly straight in 3D",
+    "[geom][subd]") {
   // OpenSubdiv's sub-face parameterization at the pole bends the lines s + t = c toward
   // the pole: the straight segment between (0.4, 0) and (0, 0.4) of the pole's sub-face
   // maps to a curve ~9x longer than its chord, so the induced metric varied 6x across
@@ -381,17 +392,21 @@ TEST_CASE("subd model: catmark_pole64 patches at the valence-64 pole are project
     const geom::Surface& s = *r.model.faces[f].surface;
     for (int k = 0; k < 3; ++k) {
       for (double c : {0.1, 0.4}) {
-        worst_new = std::max(worst_new, arc_over_chord(s, geom::subd_patch_domain_point(P, k, {c, 0.0}),
-                                                       geom::subd_patch_domain_point(P, k, {0.0, c})));
-        worst_old = std::max(worst_old, arc_over_chord(*P.unprojected, geom::ngon_domain_point(P.polygon, P.centre, k, {c, 0.0}),
-                                                       geom::ngon_domain_point(P.polygon, P.centre, k, {0.0, c})));
+        worst_new =
+            std::max(worst_new, arc_over_chord(s, geom::subd_patch_domain_point(P, k, {c, 0.0}),
+                                               geom::subd_patch_domain_point(P, k, {0.0, c})));
+        worst_old = std::max(
+            worst_old, arc_over_chord(*P.unprojected,
+                                      geom::ngon_domain_point(P.polygon, P.centre, k, {c, 0.0}),
+                                      geom::ngon_domain_point(P.polygon, P.centre, k, {0.0, c})));
       }
       // The domain is the projection: sigma(w) projects back to w.
       const Vec2 w = geom::subd_patch_domain_point(P, k, {0.3, 0.6});
       back = std::max(back, glm::length(P.plane.map(s.point(w.x, w.y)) - w));
     }
   }
-  INFO("arc/chord across the strips: projected " << worst_new << ", OpenSubdiv's domain " << worst_old);
+  INFO("arc/chord across the strips: projected " << worst_new << ", OpenSubdiv's domain "
+                                                 << worst_old);
   CHECK(projected == 64);
   CHECK(worst_old > 3.0);
   CHECK(worst_new < 1.1);

@@ -9,16 +9,14 @@
 //  - a NaN coordinate (the input that crashes a plain OCC import) is rejected;
 //  - the model keeps the file's length unit (MANIFEST's bounding boxes are in mm: compared
 //    through the reported factor), `--units` converts by exactly the declared factor.
-#include <catch2/catch.hpp>
-
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -46,8 +44,10 @@ std::string slurp(const std::string& p) {
 }
 
 Run run(const std::string& args) {
-  const std::string base = std::string(UVMESH_BINARY_DIR) + "/tests/io/run_" + std::to_string(::getpid());
-  const std::string cmd = "timeout 300 " + kExe + " " + args + " >" + base + ".out 2>" + base + ".err";
+  const std::string base =
+      std::string(UVMESH_BINARY_DIR) + "/tests/io/run_" + std::to_string(::getpid());
+  const std::string cmd =
+      "timeout 300 " + kExe + " " + args + " >" + base + ".out 2>" + base + ".err";
   const int st = std::system(cmd.c_str());
   Run r;
   r.rc = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
@@ -89,7 +89,9 @@ int note_count(const std::string& notes, const std::string& pattern) {
 
 // Millimetres per unit of the reported coordinates; 1 for unitless BREP (MANIFEST takes
 // BREP coordinates as they are stored).
-double mm_per_unit(const json& j) { return j["unit_in_mm"].is_null() ? 1.0 : j["unit_in_mm"].get<double>(); }
+double mm_per_unit(const json& j) {
+  return j["unit_in_mm"].is_null() ? 1.0 : j["unit_in_mm"].get<double>();
+}
 
 std::map<std::string, int> parse_kinds(const std::string& s) {
   std::map<std::string, int> k;
@@ -119,11 +121,13 @@ TEST_CASE("corpus: uvmesh info --no-heal matches MANIFEST for every CAD model", 
     CHECK(j["counts"]["solids"] == std::stoi(r.at("n_solids")));
     CHECK(j["surface_kinds"].get<std::map<std::string, int>>() == parse_kinds(r.at("kinds")));
     // Coordinates are in the file's unit; MANIFEST's diagonal is in mm (BREP: as stored).
-    CHECK(j["bbox"]["diagonal"].get<double>() * mm_per_unit(j) == Approx(std::stod(r.at("bbox_diag"))).epsilon(1e-5));
+    CHECK(j["bbox"]["diagonal"].get<double>() * mm_per_unit(j) ==
+          Approx(std::stod(r.at("bbox_diag"))).epsilon(1e-5));
     if (j["format"] == "brep") {
       CHECK(j["units"] == "unitless");
     } else {
-      CHECK(j["units"] == j["file_units"]);  // every STEP / IGES file of the corpus declares a known unit
+      CHECK(j["units"] ==
+            j["file_units"]);  // every STEP / IGES file of the corpus declares a known unit
       CHECK_FALSE(j["units_converted"].get<bool>());
       CHECK(j["unit_in_m"].get<double>() == Approx(j["unit_in_mm"].get<double>() / 1000.0));
     }
@@ -139,7 +143,8 @@ TEST_CASE("corpus: uvmesh info --no-heal matches MANIFEST for every CAD model", 
   CHECK(models >= 70);
 }
 
-TEST_CASE("corpus: with healing, every difference from MANIFEST is reported by a healing step", "[io][corpus][heal]") {
+TEST_CASE("corpus: with healing, every difference from MANIFEST is reported by a healing step",
+          "[io][corpus][heal]") {
   int sewn = 0;
   for (const Row& r : manifest()) {
     if (r.at("file").rfind("cad/", 0) != 0) continue;
@@ -150,7 +155,8 @@ TEST_CASE("corpus: with healing, every difference from MANIFEST is reported by a
     REQUIRE(x.rc == 0);
     const json j = json::parse(x.out);
     CHECK_FALSE(j["validity_checked"].get<bool>());
-    int faces = std::stoi(r.at("n_faces")), edges = std::stoi(r.at("n_edges")), solids = std::stoi(r.at("n_solids"));
+    int faces = std::stoi(r.at("n_faces")), edges = std::stoi(r.at("n_edges")),
+        solids = std::stoi(r.at("n_solids"));
     const json& steps = j["healing"]["steps"];
     REQUIRE_FALSE(steps.empty());
     CHECK(steps[0]["name"] == "shapefix");
@@ -196,8 +202,9 @@ TEST_CASE("corpus: the loose faces named by the issue get sewn", "[io][corpus][h
   CHECK(j["free_edges"].get<int>() < 50);
 }
 
-TEST_CASE("corpus: gaps of ~1e-5 of the diagonal close by retried sewing (gmsh_t106_blade, occt_hammer)",
-          "[io][corpus][heal]") {
+TEST_CASE(
+    "corpus: gaps of ~1e-5 of the diagonal close by retried sewing (gmsh_t106_blade, occt_hammer)",
+    "[io][corpus][heal]") {
   // Sewn once at 1e-6 of the diagonal, t106_blade kept 2 free edges and hammer 2: copies
   // of one curve on two faces, ~1e-5 of the diagonal apart. Meshed unsewn, the two
   // discretizations of the curve crossed each other: 42 and 29 self-intersections. The
@@ -226,8 +233,10 @@ TEST_CASE("corpus: --conform imprints touching solids on each other", "[io][corp
   CHECK(reported);
 }
 
-TEST_CASE("corpus: --conform keeps the shells and faces outside the solids and refuses a fuse that opens a solid (occt_caxif_k1)",
-          "[io][corpus][conform]") {
+TEST_CASE(
+    "corpus: --conform keeps the shells and faces outside the solids and refuses a fuse that opens "
+    "a solid (occt_caxif_k1)",
+    "[io][corpus][conform]") {
   // occt_caxif_k1: 5 closed solids, 9 open shells and 4 loose faces. The general fuse of
   // the solids used to be the whole result: 50 of the 94 faces were dropped without a word
   // and the bounding box shrank from 52.6 to 35.7 cm. The fuse itself, on these solids,
@@ -241,14 +250,17 @@ TEST_CASE("corpus: --conform keeps the shells and faces outside the solids and r
   const json j = json::parse(x.out);
   CHECK(j["counts"]["faces"] == p["counts"]["faces"]);
   CHECK(j["counts"]["solids"] == p["counts"]["solids"]);
-  CHECK(j["bbox"]["diagonal"].get<double>() == Approx(p["bbox"]["diagonal"].get<double>()).epsilon(1e-6));
+  CHECK(j["bbox"]["diagonal"].get<double>() ==
+        Approx(p["bbox"]["diagonal"].get<double>()).epsilon(1e-6));
   bool refused = false;
   for (const json& s : j["healing"]["steps"])
     if (s["name"] == "conform") refused = !s["applied"].get<bool>();
   CHECK(refused);
   bool warned = false;
   for (const json& w : j["warnings"])
-    if (w.get<std::string>().find("not kept: it would leave 2 solid(s) with free edges") != std::string::npos) warned = true;
+    if (w.get<std::string>().find("not kept: it would leave 2 solid(s) with free edges") !=
+        std::string::npos)
+      warned = true;
   CHECK(warned);
 }
 
@@ -289,7 +301,8 @@ TEST_CASE("bad inputs: each gives its clean error or loads, never a crash", "[io
       CHECK(j["counts"]["faces"] == std::stoi(r.at("n_faces")));
       CHECK(j["counts"]["edges"] == std::stoi(r.at("n_edges")));
       CHECK(j["counts"]["solids"] == std::stoi(r.at("n_solids")));
-      if (r.at("notes").find("INVALID") != std::string::npos) CHECK_FALSE(j["invalid_faces"].empty());
+      if (r.at("notes").find("INVALID") != std::string::npos)
+        CHECK_FALSE(j["invalid_faces"].empty());
     } else {
       CHECK(x.rc == 2);
       CHECK(x.out.empty());
@@ -335,14 +348,16 @@ void check_scaled(const uvmesh::geom::Model& a, const uvmesh::geom::Model& b, do
   for (std::size_t i = 0; i < a.vertices.size(); ++i) {
     const uvmesh::geom::Vec3& p = a.vertices[i].p;
     const uvmesh::geom::Vec3& q = b.vertices[i].p;
-    worst = std::max({worst, std::abs(p.x * factor - q.x), std::abs(p.y * factor - q.y), std::abs(p.z * factor - q.z)});
+    worst = std::max({worst, std::abs(p.x * factor - q.x), std::abs(p.y * factor - q.y),
+                      std::abs(p.z * factor - q.z)});
   }
   CHECK(worst <= 1e-12 * size);
 }
 
 }  // namespace
 
-TEST_CASE("units: a STEP file in centimetres keeps its unit; --units mm scales by exactly 10", "[io][units]") {
+TEST_CASE("units: a STEP file in centimetres keeps its unit; --units mm scales by exactly 10",
+          "[io][units]") {
   const std::string f = kData + "/cad/axom_tet.step";
   const Run native = run("info --json --no-heal " + f);
   const Run mm = run("info --json --no-heal --units mm " + f);
@@ -364,7 +379,8 @@ TEST_CASE("units: a STEP file in centimetres keeps its unit; --units mm scales b
     CHECK(a["bbox"]["min"][k].get<double>() == Approx(-1.0).margin(1e-6));
     CHECK(a["bbox"]["max"][k].get<double>() == Approx(1.0).margin(1e-6));
   }
-  CHECK(b["bbox"]["diagonal"].get<double>() == Approx(10.0 * a["bbox"]["diagonal"].get<double>()).epsilon(1e-6));
+  CHECK(b["bbox"]["diagonal"].get<double>() ==
+        Approx(10.0 * a["bbox"]["diagonal"].get<double>()).epsilon(1e-6));
   CHECK(native.out.find("\"warnings\": []") != std::string::npos);
 
   // Vertex by vertex through the library: the file's numbers exactly, and x 10 in mm.
@@ -383,16 +399,20 @@ TEST_CASE("units: a STEP file in centimetres keeps its unit; --units mm scales b
   check_scaled(rc.model, rm.model, 10.0);
   // Tolerances do not scale: OCC gives vertices its Precision::Confusion() (1e-7) in
   // whatever unit the model is in, and only enlarges them where the geometry needs it.
-  for (std::size_t i = 0; i < rc.model.vertices.size(); ++i) CHECK(rc.model.vertices[i].tol == rm.model.vertices[i].tol);
+  for (std::size_t i = 0; i < rc.model.vertices.size(); ++i)
+    CHECK(rc.model.vertices[i].tol == rm.model.vertices[i].tol);
 }
 
-TEST_CASE("units: inch STEP, metre and inch IGES keep their unit; conversions use the declared factor", "[io][units]") {
+TEST_CASE(
+    "units: inch STEP, metre and inch IGES keep their unit; conversions use the declared factor",
+    "[io][units]") {
   struct Case {
     const char* file;
     const char* unit;
     double mm;
   };
-  for (const Case c : {Case{"cad/gmsh_crankshaft.stp", "inch", 25.4}, Case{"cad/dealii_wigley_hull.igs", "m", 1000.0},
+  for (const Case c : {Case{"cad/gmsh_crankshaft.stp", "inch", 25.4},
+                       Case{"cad/dealii_wigley_hull.igs", "m", 1000.0},
                        Case{"cad/gmsh_model1.igs", "inch", 25.4}}) {
     INFO(c.file);
     uvmesh::io::ReadOptions o;
@@ -418,8 +438,11 @@ TEST_CASE("units: inch STEP, metre and inch IGES keep their unit; conversions us
   }
 }
 
-TEST_CASE("units: BREP is unitless; --units is reported as ignored there; unknown units are refused", "[io][units]") {
-  const Run x = run("info --json --no-heal --no-check --units mm " + kData + "/cad/occt_bottle.brep");
+TEST_CASE(
+    "units: BREP is unitless; --units is reported as ignored there; unknown units are refused",
+    "[io][units]") {
+  const Run x =
+      run("info --json --no-heal --no-check --units mm " + kData + "/cad/occt_bottle.brep");
   REQUIRE(x.rc == 0);
   const json j = json::parse(x.out);
   CHECK(j["units"] == "unitless");

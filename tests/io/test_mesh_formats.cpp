@@ -2,8 +2,8 @@
 // same counts, coordinates within the format's precision, same face ids) and by the
 // reference tools (meshio, Gmsh, TetGen, draco_decoder); corrupt and truncated files give
 // located errors. The browser test of .glb is test_glb_browser.cpp.
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -450,8 +450,9 @@ TEST_CASE("mesh formats: with a solid and unnamed faces every element is in a ph
     io::Encoding enc;
     std::optional<io::MeshFormat> fmt;
   };
-  for (const Form& f : {Form{"u.msh", io::Encoding::Ascii, {}}, Form{"ub.msh", io::Encoding::Binary, {}},
-                        Form{"u22.msh", io::Encoding::Default, io::MeshFormat::Msh22}}) {
+  for (const Form& f :
+       {Form{"u.msh", io::Encoding::Ascii, {}}, Form{"ub.msh", io::Encoding::Binary, {}},
+        Form{"u22.msh", io::Encoding::Default, io::MeshFormat::Msh22}}) {
     SECTION(f.file) {
       const std::string src = write_as(dir, cube, f.file, f.enc, f.fmt);
       const io::MeshReadResult r0 = io::read_mesh(src);

@@ -7,14 +7,13 @@
 // 12 edges with n-1 interior nodes each, 6 faces with (n-1)^2 interior nodes and 2n^2
 // triangles each, classification, segments and a one-solid model whose loops carry the
 // edge uses -- what surface::mesh_model produces for a cube, without the mesher.
-#include <catch2/catch.hpp>
-
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <catch2/catch.hpp>
 #include <charconv>
 #include <cmath>
 #include <csignal>
@@ -64,7 +63,8 @@ TEST_CASE("mesh_writer: formats from extensions", "[io][mesh_writer]") {
   CHECK_FALSE(io::format_from_name("msh3"));
   CHECK_FALSE(io::format_from_path("msh"));
   CHECK_FALSE(io::format_from_path("dir.msh/file"));
-  CHECK(io::known_mesh_extensions() == ".msh, .mesh, .meshb, .stl, .obj, .ply, .vtk, .vtu, .poly, .smesh, .drc, .glb");
+  CHECK(io::known_mesh_extensions() ==
+        ".msh, .mesh, .meshb, .stl, .obj, .ply, .vtk, .vtu, .poly, .smesh, .drc, .glb");
 }
 
 TEST_CASE("mesh_writer: .msh 4.1 has one entity per CAD entity and reads back in Gmsh and meshio",
@@ -79,8 +79,14 @@ TEST_CASE("mesh_writer: .msh 4.1 has one entity per CAD entity and reads back in
 
   const Reading g = read_back(dir, "gmsh", path);
   INFO(g.run.out);
-  check_counts(g, {{"@entities0", 8}, {"@entities1", 12}, {"@entities2", 6}, {"@entities3", 1},
-                   {"@points", 98}, {"@vertex", 8}, {"@line", 48}, {"@triangle", 192}});
+  check_counts(g, {{"@entities0", 8},
+                   {"@entities1", 12},
+                   {"@entities2", 6},
+                   {"@entities3", 1},
+                   {"@points", 98},
+                   {"@vertex", 8},
+                   {"@line", 48},
+                   {"@triangle", 192}});
   // Node tags are the mesh's indices + 1, whatever the entity blocks.
   const std::vector<geom::Vec3> by_tag = coordinates(g);
   CHECK(by_tag == cube.mesh.points);
@@ -111,7 +117,8 @@ TEST_CASE("mesh_writer: .msh 4.1 has one entity per CAD entity and reads back in
   {
     std::istringstream in(slurp(path));
     std::string line;
-    while (std::getline(in, line) && line != "$Entities") {}
+    while (std::getline(in, line) && line != "$Entities") {
+    }
     for (int i = 0; i < 10; ++i) std::getline(in, line);
     // ... 0 0 0 1 0 0 (box), 1 1 (its physical group: model_edges, every element of a file
     // with a solid is in a group), 2 1 -2 (bounding vertices).
@@ -160,7 +167,10 @@ TEST_CASE("mesh_writer: .msh without a model derives its entities from the class
   write_ok(m, nullptr, path);
   const Reading g = read_back(dir, "gmsh", path);
   INFO(g.run.out);
-  check_counts(g, {{"@entities0", 8}, {"@entities1", 12}, {"@entities2", 6}, {"@entities3", 0},
+  check_counts(g, {{"@entities0", 8},
+                   {"@entities1", 12},
+                   {"@entities2", 6},
+                   {"@entities3", 0},
                    {"@triangle", 6 * 18}});
   CHECK(coordinates(g) == m.points);
   for (const std::string& s : g.all("@curve")) CHECK(std::count(s.begin(), s.end(), ' ') == 2);

@@ -1,6 +1,5 @@
 // Pre-scan of STEP / IGES / BREP text: each rejected defect inline, with why it matters.
 #include <catch2/catch.hpp>
-
 #include <string>
 
 #include "uvmesh/io/prescan.h"
@@ -14,7 +13,8 @@ std::string step(const std::string& data) {
          "ENDSEC;\nEND-ISO-10303-21;\n";
 }
 const std::string kGood =
-    "#1=CARTESIAN_POINT('',(0.,1.5,-2.E1));\n#2=DIRECTION('',(0.,0.,1.));\n#3=AXIS2_PLACEMENT_3D('',#1,#2,$);\n"
+    "#1=CARTESIAN_POINT('',(0.,1.5,-2.E1));\n#2=DIRECTION('',(0.,0.,1.));\n#3=AXIS2_PLACEMENT_3D(''"
+    ",#1,#2,$);\n"
     "#4=PLANE('it''s; a plane',#3);\n";
 
 PrescanResult scan(const std::string& text, CadFormat f = CadFormat::Step) {
@@ -34,7 +34,8 @@ std::string iges_line(const std::string& body, char section, int seq) {
 
 TEST_CASE("prescan: format sniffing and extensions", "[io][prescan]") {
   CHECK(sniff_format("ISO-10303-21;\nHEADER;") == CadFormat::Step);
-  CHECK(sniff_format("DBRep_DrawableShape\n\nCASCADE Topology V1, (c) Matra-Datavision\n") == CadFormat::Brep);
+  CHECK(sniff_format("DBRep_DrawableShape\n\nCASCADE Topology V1, (c) Matra-Datavision\n") ==
+        CadFormat::Brep);
   CHECK(sniff_format(iges_line("start", 'S', 1)) == CadFormat::Iges);
   CHECK(sniff_format(std::string("\x89PNG\r\n\x1a\n", 8)) == CadFormat::Unknown);
   CHECK(format_from_extension("a/b.STP") == CadFormat::Step);
@@ -43,7 +44,8 @@ TEST_CASE("prescan: format sniffing and extensions", "[io][prescan]") {
   CHECK(format_from_extension("dir.step/file") == CadFormat::Unknown);
 }
 
-TEST_CASE("prescan: a well-formed STEP file passes; strings may hold ';' and quotes", "[io][prescan]") {
+TEST_CASE("prescan: a well-formed STEP file passes; strings may hold ';' and quotes",
+          "[io][prescan]") {
   const PrescanResult r = scan(step(kGood));
   INFO(r.error);
   CHECK(r.ok);
@@ -64,7 +66,9 @@ TEST_CASE("prescan: NaN, infinite and overflowing STEP coordinates are rejected"
   CHECK_FALSE(h.ok);
   CHECK(h.error.find("CARTESIAN_POINT #7") != std::string::npos);
   // ... but large numbers elsewhere (knots, weights) are not coordinates.
-  CHECK(scan(step("#1=B_SPLINE_CURVE_WITH_KNOTS('',1,(),.UNSPECIFIED.,.F.,.F.,(2),(1.E20,2.E20),.UNSPECIFIED.);\n")).ok);
+  CHECK(scan(step("#1=B_SPLINE_CURVE_WITH_KNOTS('',1,(),.UNSPECIFIED.,.F.,.F.,(2),(1.E20,2.E20),."
+                  "UNSPECIFIED.);\n"))
+            .ok);
 }
 
 TEST_CASE("prescan: truncation and dangling references", "[io][prescan]") {
@@ -78,7 +82,8 @@ TEST_CASE("prescan: truncation and dangling references", "[io][prescan]") {
   t2 = t2.substr(0, t2.find("ENDSEC;\nEND-ISO"));
   CHECK(scan(t2).error.find("truncated") != std::string::npos);
   // A reference to an entity defined nowhere, in an otherwise clean file: an error.
-  const PrescanResult d = scan(step(kGood + "#5=ADVANCED_FACE('',(#6),#999,.T.);\n#6=FACE_BOUND('',#3,.T.);\n"));
+  const PrescanResult d =
+      scan(step(kGood + "#5=ADVANCED_FACE('',(#6),#999,.T.);\n#6=FACE_BOUND('',#3,.T.);\n"));
   CHECK_FALSE(d.ok);
   CHECK(d.error.find("#5 references #999") != std::string::npos);
   // With garbled statements (OCC bug 32314's file) they are warnings: partial import.
@@ -90,15 +95,17 @@ TEST_CASE("prescan: truncation and dangling references", "[io][prescan]") {
 }
 
 TEST_CASE("prescan: tessellated-only STEP content is counted", "[io][prescan]") {
-  const PrescanResult r = scan(step("#1=COMPLEX_TRIANGULATED_FACE('',#2,3,(),$,(),(),());\n#2=COORDINATES_LIST('',0,());\n"));
+  const PrescanResult r = scan(step(
+      "#1=COMPLEX_TRIANGULATED_FACE('',#2,3,(),$,(),(),());\n#2=COORDINATES_LIST('',0,());\n"));
   CHECK(r.ok);
   CHECK(r.step_tessellated_faces == 1);
   CHECK(r.step_brep_faces == 0);
 }
 
 TEST_CASE("prescan: IGES sections and numbers", "[io][prescan]") {
-  std::string ok = iges_line("start", 'S', 1) + iges_line("1H,,1H;;", 'G', 1) + iges_line("     110       1", 'D', 1) +
-                   iges_line("     110       0", 'D', 2) + iges_line("110,0.,0.,0.,1.,1.,1.;", 'P', 1) +
+  std::string ok = iges_line("start", 'S', 1) + iges_line("1H,,1H;;", 'G', 1) +
+                   iges_line("     110       1", 'D', 1) + iges_line("     110       0", 'D', 2) +
+                   iges_line("110,0.,0.,0.,1.,1.,1.;", 'P', 1) +
                    iges_line("S      1G      1D      2P      1", 'T', 1);
   CHECK(scan(ok, CadFormat::Iges).ok);
   std::string no_p = ok;
@@ -109,12 +116,16 @@ TEST_CASE("prescan: IGES sections and numbers", "[io][prescan]") {
   std::string nan = ok;
   nan.replace(nan.find("1.,1.,1.;"), 9, "NaN,1.,1;");  // same width: column 73 stays
   CHECK(scan(nan, CadFormat::Iges).error.find("non-finite") != std::string::npos);
-  CHECK(scan("just some text\nthat is not IGES\n", CadFormat::Iges).error.find("not an IGES file") != std::string::npos);
+  CHECK(
+      scan("just some text\nthat is not IGES\n", CadFormat::Iges).error.find("not an IGES file") !=
+      std::string::npos);
 }
 
 TEST_CASE("prescan: BREP numbers must be finite", "[io][prescan]") {
-  const std::string head = "DBRep_DrawableShape\n\nCASCADE Topology V1, (c) Matra-Datavision\nLocations 0\n";
+  const std::string head =
+      "DBRep_DrawableShape\n\nCASCADE Topology V1, (c) Matra-Datavision\nLocations 0\n";
   CHECK(scan(head + "Curves 1\n1 0 0 0 1 0 0\n", CadFormat::Brep).ok);
-  CHECK(scan(head + "Curves 1\n1 0 nan 0 1 0 0\n", CadFormat::Brep).error.find("line 6") != std::string::npos);
+  CHECK(scan(head + "Curves 1\n1 0 nan 0 1 0 0\n", CadFormat::Brep).error.find("line 6") !=
+        std::string::npos);
   CHECK_FALSE(scan(head + "Curves 1\n1 0 1e999 0 1 0 0\n", CadFormat::Brep).ok);
 }

@@ -67,7 +67,9 @@ inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return pred::orient2d(&a.x, &b.x, &c.x);
 }
 
-inline bool same(const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; }
+inline bool same(const Vec2& a, const Vec2& b) {
+  return a.x == b.x && a.y == b.y;
+}
 
 // p lies on the closed segment ab (exact).
 inline bool on_segment(const Vec2& a, const Vec2& b, const Vec2& p) {
@@ -78,14 +80,17 @@ inline bool on_segment(const Vec2& a, const Vec2& b, const Vec2& p) {
 
 // Closed segments ab and cd have a point in common (exact).
 inline bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
-  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return true;
+  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+               o4 = orient(c, d, b);
+  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
+    return true;
   return on_segment(a, b, c) || on_segment(a, b, d) || on_segment(c, d, a) || on_segment(c, d, b);
 }
 
 // Segments ab and cd cross at a point interior to both (exact).
 inline bool segments_cross_properly(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+               o4 = orient(c, d, b);
   return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
 }
 
@@ -113,7 +118,8 @@ inline std::int64_t distinct_count(const std::vector<Vec2>& pts) {
 // Returns 0 when all points are collinear (no 2D hull).
 inline std::int64_t hull_vertex_count(const std::vector<Vec2>& pts) {
   std::vector<Vec2> p = pts;
-  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
+  std::sort(p.begin(), p.end(),
+            [](const Vec2& a, const Vec2& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
   p.erase(std::unique(p.begin(), p.end(), same), p.end());
   if (p.size() < 3) return 0;
   bool flat = true;
@@ -137,13 +143,13 @@ inline std::int64_t hull_vertex_count(const std::vector<Vec2>& pts) {
 // ---------------------------------------------------------------------------------------
 // A generated input and what a correct mesh of it must satisfy.
 struct Case {
-  std::string name;                         // "family seed=N", for failure messages
+  std::string name;  // "family seed=N", for failure messages
   Pslg pslg;
-  double h = 0;                             // a uniform size giving a few thousand triangles
-  bool all_points_in_domain = true;         // every input point lies in the closed domain
+  double h = 0;                      // a uniform size giving a few thousand triangles
+  bool all_points_in_domain = true;  // every input point lies in the closed domain
   bool has_segments = false;
-  std::int64_t exact_duplicates = 0;        // input points equal to an earlier one
-  std::vector<std::vector<Vec2>> holes;     // no triangle may lie inside these
+  std::int64_t exact_duplicates = 0;     // input points equal to an earlier one
+  std::vector<std::vector<Vec2>> holes;  // no triangle may lie inside these
   // (polygon, attribute), outer first: the attribute at a point is that of the last
   // (innermost) polygon containing it.
   std::vector<std::pair<std::vector<Vec2>, double>> attribute_polygons;
@@ -179,11 +185,13 @@ inline void add_loop(Pslg& g, const std::vector<Vec2>& poly, int marker) {
 // Star-shaped polygon around c: n vertices at jittered, strictly increasing angles
 // (every angular gap below pi, so c is in the kernel and the polygon is simple) and radii
 // in [rmin, rmax]. It contains the disk of radius rmin * cos(max gap / 2) around c.
-inline std::vector<Vec2> star(Rng& rng, Vec2 c, int n, double rmin, double rmax, double* inner = nullptr) {
+inline std::vector<Vec2> star(Rng& rng, Vec2 c, int n, double rmin, double rmax,
+                              double* inner = nullptr) {
   const double phase = rng.uniform(0, 2 * std::numbers::pi);
   constexpr double jitter = 0.4;  // gaps in 2pi/n * [1-jitter, 1+jitter] <= pi for n >= 3
   std::vector<double> ang(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) ang[i] = phase + 2 * std::numbers::pi * (i + jitter * (rng.uniform() - 0.5)) / n;
+  for (int i = 0; i < n; ++i)
+    ang[i] = phase + 2 * std::numbers::pi * (i + jitter * (rng.uniform() - 0.5)) / n;
   double maxgap = 0;
   for (int i = 0; i < n; ++i) {
     const double next = i + 1 < n ? ang[i + 1] : ang[0] + 2 * std::numbers::pi;
@@ -214,7 +222,9 @@ struct Similarity {
     f.ty = rng.uniform(-100, 100) * f.s;
     return f;
   }
-  Vec2 operator()(Vec2 p) const { return {s * (c * p.x - sn * p.y) + tx, s * (sn * p.x + c * p.y) + ty}; }
+  Vec2 operator()(Vec2 p) const {
+    return {s * (c * p.x - sn * p.y) + tx, s * (sn * p.x + c * p.y) + ty};
+  }
   void apply(Case& k) const {
     for (auto& p : k.pslg.points) p = (*this)(p);
     for (auto& p : k.pslg.holes) p = (*this)(p);
@@ -259,7 +269,8 @@ inline Case grid_points(std::uint64_t seed) {
   for (int j = 0; j < g; ++j)
     for (int i = 0; i < g; ++i) {
       const bool corner = (i == 0 && j == 0) || (i == g - 1 && j == 0) || (i == 0 && j == g - 1);
-      if (corner || rng.uniform() < keep) k.pslg.points.push_back({(i + shift) * scale, (j + shift) * scale});
+      if (corner || rng.uniform() < keep)
+        k.pslg.points.push_back({(i + shift) * scale, (j + shift) * scale});
     }
   k.h = 0.5 * scale;
   return k;
@@ -279,7 +290,8 @@ inline Case duplicate_points(std::uint64_t seed) {
   auto& P = k.pslg.points;
   for (int i = 0; i < n; ++i) {
     if (on_grid)
-      P.push_back({static_cast<double>(rng.integer(1, 10)), static_cast<double>(rng.integer(1, 10))});
+      P.push_back(
+          {static_cast<double>(rng.integer(1, 10)), static_cast<double>(rng.integer(1, 10))});
     else
       P.push_back({rng.uniform(), rng.uniform()});
   }
@@ -313,7 +325,8 @@ inline Case star_with_holes(std::uint64_t seed) {
   k.name = detail::name("star_with_holes", seed);
   k.has_segments = true;
   double inner = 0;
-  const auto outer = detail::star(rng, {0, 0}, rng.integer(5, 60), rng.uniform(0.3, 0.9), 1.0, &inner);
+  const auto outer =
+      detail::star(rng, {0, 0}, rng.integer(5, 60), rng.uniform(0.3, 0.9), 1.0, &inner);
   detail::add_loop(k.pslg, outer, 1);
   const int want = rng.integer(0, 4);
   std::vector<std::pair<Vec2, double>> disks;
@@ -323,7 +336,8 @@ inline Case star_with_holes(std::uint64_t seed) {
     const double a = rng.uniform(0, 2 * std::numbers::pi);
     const Vec2 c{r * std::cos(a), r * std::sin(a)};
     bool ok = r >= 0;
-    for (auto& [d, dr] : disks) ok = ok && std::hypot(c.x - d.x, c.y - d.y) > rho + dr + 0.05 * inner;
+    for (auto& [d, dr] : disks)
+      ok = ok && std::hypot(c.x - d.x, c.y - d.y) > rho + dr + 0.05 * inner;
     if (!ok) continue;
     disks.push_back({c, rho});
     const auto hole = detail::star(rng, c, rng.integer(3, 12), 0.4 * rho, rho);
@@ -411,7 +425,8 @@ inline Case nested_squares(std::uint64_t seed) {
   for (int l = 1; l < levels; ++l) {
     const double s = half.back() * rng.uniform(0.3, 0.7);
     const double room = half.back() - s - 0.1 * half.back();  // margin 0.1 of the parent
-    centers.push_back({centers.back().x + rng.uniform(-room, room), centers.back().y + rng.uniform(-room, room)});
+    centers.push_back(
+        {centers.back().x + rng.uniform(-room, room), centers.back().y + rng.uniform(-room, room)});
     half.push_back(s);
   }
   const bool inner_hole = rng.chance(0.5);
@@ -419,7 +434,8 @@ inline Case nested_squares(std::uint64_t seed) {
   for (int l = 0; l < levels; ++l) {
     const Vec2 c = centers[l];
     const double s = half[l];
-    const std::vector<Vec2> sq{{c.x - s, c.y - s}, {c.x + s, c.y - s}, {c.x + s, c.y + s}, {c.x - s, c.y + s}};
+    const std::vector<Vec2> sq{
+        {c.x - s, c.y - s}, {c.x + s, c.y - s}, {c.x + s, c.y + s}, {c.x - s, c.y + s}};
     detail::add_loop(k.pslg, sq, l + 1);
     const double att = random_att ? std::round(rng.uniform(-1000, 1000)) / 8 : l + 1.0;
     const bool last = l + 1 == levels;
@@ -438,8 +454,9 @@ inline Case nested_squares(std::uint64_t seed) {
   const int free_pts = rng.integer(0, 5);
   for (int i = 0; i < free_pts; ++i) {
     const double xl = centers[0].x - half[0], xr = centers[1].x - half[1];
-    k.pslg.points.push_back({rng.uniform(xl + 0.2 * (xr - xl), xr - 0.2 * (xr - xl)),
-                             rng.uniform(centers[0].y - 0.8 * half[0], centers[0].y + 0.8 * half[0])});
+    k.pslg.points.push_back(
+        {rng.uniform(xl + 0.2 * (xr - xl), xr - 0.2 * (xr - xl)),
+         rng.uniform(centers[0].y - 0.8 * half[0], centers[0].y + 0.8 * half[0])});
   }
   k.h = rng.uniform(0.03, 0.15);
   detail::Similarity::random(rng).apply(k);
@@ -474,14 +491,16 @@ inline Case small_angles(std::uint64_t seed) {
     const double th = (rng.chance(0.3) ? 1.0 : rng.uniform(1, 10)) * deg;
     const double l1 = rng.uniform(0.5, 1), l2 = rng.uniform(0.5, 1);
     std::vector<Vec2> w{{0, 0}, {l1, 0}};
-    if (rng.chance(0.5)) w.push_back({0.5 * (l1 + l2 * std::cos(th)), 0.5 * l2 * std::sin(th) * 0.5});  // concave dent
+    if (rng.chance(0.5))
+      w.push_back({0.5 * (l1 + l2 * std::cos(th)), 0.5 * l2 * std::sin(th) * 0.5});  // concave dent
     w.push_back({l2 * std::cos(th), l2 * std::sin(th)});
     detail::add_loop(k.pslg, w, 1);
   } else if (variant == 2) {
     const double eps = std::pow(10.0, rng.uniform(-9, -4));
     const int n = rng.integer(3, 8);
     std::vector<Vec2> poly;
-    for (int i = 0; i <= n; ++i) poly.push_back({static_cast<double>(i) / n, i == n / 2 ? eps : 0.0});
+    for (int i = 0; i <= n; ++i)
+      poly.push_back({static_cast<double>(i) / n, i == n / 2 ? eps : 0.0});
     poly.push_back({1, 1});
     poly.push_back({0, 1});
     detail::add_loop(k.pslg, poly, 1);
@@ -538,7 +557,8 @@ inline Case random_segments(std::uint64_t seed) {
     for (std::size_t s = 0; s < S.size() && ok; ++s) {
       const Vec2 &c = P[S[s].a], &d = P[S[s].b];
       const bool share_a = same(a, c) || same(a, d), share_b = same(b, c) || same(b, d);
-      if (share_a && share_b) ok = false;  // same segment
+      if (share_a && share_b)
+        ok = false;  // same segment
       else if (share_a || share_b) {
         // Touch only at the shared endpoint: the far ends must not lie on the other segment.
         const Vec2 other_new = share_a ? b : a;
@@ -593,8 +613,10 @@ inline Case triangulation_edges(std::uint64_t seed) {
     for (int i = 0; i <= gx; ++i) edge(id(i, j), id(i, j + 1), i == 0 || i == gx);
   for (int j = 0; j < gy; ++j)
     for (int i = 0; i < gx; ++i) {
-      if (rng.chance(0.5)) edge(id(i, j), id(i + 1, j + 1), false);
-      else edge(id(i + 1, j), id(i, j + 1), false);
+      if (rng.chance(0.5))
+        edge(id(i, j), id(i + 1, j + 1), false);
+      else
+        edge(id(i + 1, j), id(i, j + 1), false);
     }
   k.h = rng.uniform(0.15, 0.5);
   detail::Similarity::random(rng).apply(k);
@@ -619,9 +641,9 @@ inline Case crossing_pair(std::uint64_t seed, Vec2* x = nullptr) {
     b = {rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95)};
     c = {rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95)};
     d = {rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95)};
-  } while (!segments_cross_properly(a, b, c, d) ||
-           std::abs(orient(a, b, c)) < 1e-3 || std::abs(orient(a, b, d)) < 1e-3 ||
-           std::abs(orient(c, d, a)) < 1e-3 || std::abs(orient(c, d, b)) < 1e-3);
+  } while (!segments_cross_properly(a, b, c, d) || std::abs(orient(a, b, c)) < 1e-3 ||
+           std::abs(orient(a, b, d)) < 1e-3 || std::abs(orient(c, d, a)) < 1e-3 ||
+           std::abs(orient(c, d, b)) < 1e-3);
   k.pslg.points.insert(k.pslg.points.end(), {a, b, c, d});
   k.pslg.segments.push_back({4, 5, 2});
   k.pslg.segments.push_back({6, 7, 2});
@@ -648,7 +670,8 @@ inline Case segment_through_vertex(std::uint64_t seed, int* on_segment_count = n
   // Start so that a + m*(dx,dy) stays within [1, 15]^2.
   auto lo = [&](int d) { return d >= 0 ? 1 : 1 - m * d; };
   auto hi = [&](int d) { return d >= 0 ? 15 - m * d : 15; };
-  const Vec2 a{static_cast<double>(rng.integer(lo(dx), hi(dx))), static_cast<double>(rng.integer(lo(dy), hi(dy)))};
+  const Vec2 a{static_cast<double>(rng.integer(lo(dx), hi(dx))),
+               static_cast<double>(rng.integer(lo(dy), hi(dy)))};
   k.pslg.points.push_back(a);
   k.pslg.points.push_back({a.x + m * dx, a.y + m * dy});
   k.pslg.segments.push_back({4, 5, 2});
@@ -669,7 +692,8 @@ inline Case open_boundary(std::uint64_t seed) {
   k.has_segments = true;
   const auto outer = detail::star(rng, {0, 0}, rng.integer(5, 30), 0.5, 1.0);
   detail::add_loop(k.pslg, outer, 1);
-  k.pslg.segments.erase(k.pslg.segments.begin() + rng.integer(0, static_cast<int>(outer.size()) - 1));
+  k.pslg.segments.erase(k.pslg.segments.begin() +
+                        rng.integer(0, static_cast<int>(outer.size()) - 1));
   k.pslg.holes.push_back({0, 0});
   k.all_points_in_domain = false;
   k.h = 0.1;
@@ -686,10 +710,14 @@ struct Family {
 
 inline const std::vector<Family>& families() {
   static const std::vector<Family> f{
-      {"random_points", random_points, true},     {"grid_points", grid_points, true},
-      {"duplicate_points", duplicate_points, true}, {"star_with_holes", star_with_holes, false},
-      {"comb_with_holes", comb_with_holes, false}, {"nested_squares", nested_squares, false},
-      {"small_angles", small_angles, false},       {"random_segments", random_segments, false},
+      {"random_points", random_points, true},
+      {"grid_points", grid_points, true},
+      {"duplicate_points", duplicate_points, true},
+      {"star_with_holes", star_with_holes, false},
+      {"comb_with_holes", comb_with_holes, false},
+      {"nested_squares", nested_squares, false},
+      {"small_angles", small_angles, false},
+      {"random_segments", random_segments, false},
       {"triangulation_edges", triangulation_edges, false},
   };
   return f;

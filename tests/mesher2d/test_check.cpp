@@ -2,7 +2,6 @@
 // invalid one is detected with a message naming the entities. These do not call the
 // mesher, so they pin the checker independently of it.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <ctime>
 #include <string>
@@ -62,7 +61,8 @@ TEST_CASE("check accepts a valid Delaunay mesh of a square", "[check]") {
   CHECK(r.edges_checked == 8);
 }
 
-TEST_CASE("check accepts two triangles on a cocircular square (incircle == 0 is Delaunay)", "[check]") {
+TEST_CASE("check accepts two triangles on a cocircular square (incircle == 0 is Delaunay)",
+          "[check]") {
   Mesh m;
   m.vertices = {{0, 0}, {2, 0}, {2, 2}, {0, 2}};
   m.triangles = {{0, 1, 2}, {0, 2, 3}};
@@ -117,7 +117,8 @@ TEST_CASE("check reports a missing segment", "[check]") {
   CHECK(r.errors.size() == 1);
 }
 
-TEST_CASE("check follows a segment through exactly collinear and rounded Steiner vertices", "[check]") {
+TEST_CASE("check follows a segment through exactly collinear and rounded Steiner vertices",
+          "[check]") {
   // Segment 0-1 from (0,0) to (3,1) split at (1, 1/3) and (2, 2/3) rounded to doubles:
   // not exactly on the line, but within rounding of it.
   Pslg in;
@@ -137,16 +138,20 @@ TEST_CASE("check follows a segment through exactly collinear and rounded Steiner
     m.vertices[4].y -= 1e-6;
     const CheckReport r = check(m, in);
     INFO(all(r));
-    CHECK(has_error(r, "segment 0 (input 0-1) is not covered by constrained edges: the chain from vertex 0 toward "
-                       "vertex 1 stops at vertex 3"));
+    CHECK(has_error(
+        r,
+        "segment 0 (input 0-1) is not covered by constrained edges: the chain from vertex 0 toward "
+        "vertex 1 stops at vertex 3"));
     CHECK(has_error(r, "constrained edge 1 edge (3,4)"));
   }
   SECTION("a chain vertex 1e-6 above the line: the segment is outside, the chain on no segment") {
     m.vertices[4].y += 1e-6;
     const CheckReport r = check(m, in);
     INFO(all(r));
-    CHECK(has_error(r, "constrained edge 1 edge (3,4) (1, 0.33333333333333331)-(2, 0.66666766666666666) is not on "
-                       "the chain of any input segment"));
+    CHECK(has_error(
+        r,
+        "constrained edge 1 edge (3,4) (1, 0.33333333333333331)-(2, 0.66666766666666666) is not on "
+        "the chain of any input segment"));
     CHECK(has_error(r, "constrained edge 2 edge (4,1)"));
   }
 }
@@ -187,8 +192,10 @@ TEST_CASE("check accepts segments removed with the exterior", "[check]") {
     m.input_vertex.back() = kNone;
     const CheckReport r2 = check(m, in);
     INFO(all(r2));
-    CHECK(has_error(r2, "segment 4 (input 1-4) is not covered by constrained edges: the chain from vertex 1 toward "
-                        "input point (-1, 3) stops at vertex 1"));
+    CHECK(has_error(
+        r2,
+        "segment 4 (input 1-4) is not covered by constrained edges: the chain from vertex 1 toward "
+        "input point (-1, 3) stops at vertex 1"));
   }
 }
 
@@ -198,7 +205,9 @@ TEST_CASE("check reports a boundary edge that is not constrained", "[check]") {
   Pslg in = square_pslg();
   const CheckReport r = check(m, in, {.segments_present = false});
   INFO(all(r));
-  CHECK(has_error(r, "edge (1,2) is on the domain boundary but is not a constrained edge (triangle 1 (1,2,4))"));
+  CHECK(has_error(
+      r,
+      "edge (1,2) is on the domain boundary but is not a constrained edge (triangle 1 (1,2,4))"));
 }
 
 TEST_CASE("check reports a constrained edge that is in no triangle", "[check]") {
@@ -214,11 +223,13 @@ TEST_CASE("check reports a triangle in a hole", "[check]") {
   // the two triangles of the hole.
   Pslg in;
   in.points = {{0, 0}, {3, 0}, {3, 3}, {0, 3}, {1, 1}, {2, 1}, {2, 2}, {1, 2}};
-  in.segments = {{0, 1, 1}, {1, 2, 1}, {2, 3, 1}, {3, 0, 1}, {4, 5, 2}, {5, 6, 2}, {6, 7, 2}, {7, 4, 2}};
+  in.segments = {{0, 1, 1}, {1, 2, 1}, {2, 3, 1}, {3, 0, 1},
+                 {4, 5, 2}, {5, 6, 2}, {6, 7, 2}, {7, 4, 2}};
   in.holes = {{1.5, 1.5}};
   Mesh m;
   m.vertices = in.points;
-  m.triangles = {{0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  m.triangles = {{0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
+                 {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
   for (auto& s : in.segments) m.boundary_edges.push_back({s.a, s.b, s.marker});
   m.input_vertex = {0, 1, 2, 3, 4, 5, 6, 7};
   {
@@ -246,8 +257,10 @@ TEST_CASE("check reports a non-Delaunay edge unless it is constrained", "[check]
   {
     const CheckReport r = check(m, in, {.delaunay = true});
     INFO(all(r));
-    CHECK(has_error(r, "edge (0,2) is not Delaunay: vertex 3 of triangle 1 (0,2,3) is inside the circumcircle of "
-                       "triangle 0 (0,1,2)"));
+    CHECK(has_error(
+        r,
+        "edge (0,2) is not Delaunay: vertex 3 of triangle 1 (0,2,3) is inside the circumcircle of "
+        "triangle 0 (0,1,2)"));
   }
   CHECK(check(m, in, {.delaunay = false}).ok());
   // A constrained diagonal (an input segment) is exempt from the Delaunay test.
@@ -256,7 +269,9 @@ TEST_CASE("check reports a non-Delaunay edge unless it is constrained", "[check]
   m.boundary_edges.push_back({0, 2, 3});
   CHECK(check(m, with_diagonal, {.delaunay = true}).ok());
   // A constrained edge that is no input segment is an error of its own.
-  CHECK(has_error(check(m, in), "constrained edge 4 edge (0,2) (-2, 0)-(2, 0) is not on the chain of any input segment"));
+  CHECK(has_error(
+      check(m, in),
+      "constrained edge 4 edge (0,2) (-2, 0)-(2, 0) is not on the chain of any input segment"));
   // The Delaunay diagonal passes.
   m.triangles = {{0, 1, 3}, {1, 2, 3}};
   m.boundary_edges.pop_back();
@@ -270,14 +285,17 @@ TEST_CASE("check reports a non-manifold edge and inconsistent orientation", "[ch
     m.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
     const CheckReport r = check(m, Pslg{}, {.segments_present = false});
     INFO(all(r));
-    CHECK(has_error(r, "edge (0,1) is non-manifold: shared by 3 triangles: triangle 0 (0,1,2), triangle 1 (1,0,3), "
-                       "triangle 2 (0,1,4)"));
+    CHECK(has_error(r,
+                    "edge (0,1) is non-manifold: shared by 3 triangles: triangle 0 (0,1,2), "
+                    "triangle 1 (1,0,3), "
+                    "triangle 2 (0,1,4)"));
   }
   SECTION("two triangles using an edge in the same direction") {
     m.triangles = {{0, 1, 2}, {0, 1, 4}};
     const CheckReport r = check(m, Pslg{}, {.segments_present = false});
     INFO(all(r));
-    CHECK(has_error(r, "edge (0,1) has inconsistent orientation: triangle 0 (0,1,2) and triangle 1 (0,1,4)"));
+    CHECK(has_error(
+        r, "edge (0,1) has inconsistent orientation: triangle 0 (0,1,2) and triangle 1 (0,1,4)"));
   }
 }
 
@@ -287,7 +305,8 @@ TEST_CASE("check reports triangles wrapping twice around a vertex", "[check]") {
   Mesh m;
   m.vertices = {{0, 0}};
   const double pi = std::acos(-1.0);
-  for (int i = 0; i < 5; ++i) m.vertices.push_back({std::cos(i * 144 * pi / 180), std::sin(i * 144 * pi / 180)});
+  for (int i = 0; i < 5; ++i)
+    m.vertices.push_back({std::cos(i * 144 * pi / 180), std::sin(i * 144 * pi / 180)});
   for (int i = 0; i < 5; ++i) {
     m.triangles.push_back({0, 1 + i, 1 + (i + 1) % 5});
     m.boundary_edges.push_back({1 + i, 1 + (i + 1) % 5, 1});
@@ -347,7 +366,9 @@ TEST_CASE("check reports input points and seeds", "[check]") {
     Mesh m = square_mesh();
     const CheckReport r = check(m, in);
     INFO(all(r));
-    CHECK(has_error(r, "region seed 0 (1.5, 0.5) with attribute 7 lies in triangle 0 (0,1,4) whose attribute is 0"));
+    CHECK(has_error(r,
+                    "region seed 0 (1.5, 0.5) with attribute 7 lies in triangle 0 (0,1,4) whose "
+                    "attribute is 0"));
     m.triangle_attribute = {7, 7, 7, 7};
     CHECK(check(m, in).ok());
   }
@@ -377,7 +398,8 @@ TEST_CASE("check runs on a million triangles in about a second", "[check][perf]"
   Mesh m;
   m.vertices.reserve(static_cast<std::size_t>(n) * n);
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) m.vertices.push_back({static_cast<double>(i), static_cast<double>(j)});
+    for (int i = 0; i < n; ++i)
+      m.vertices.push_back({static_cast<double>(i), static_cast<double>(j)});
   auto id = [&](int i, int j) { return j * n + i; };
   for (int j = 0; j + 1 < n; ++j)
     for (int i = 0; i + 1 < n; ++i) {

@@ -3,16 +3,15 @@
 // (mesher2d/src/hull_delaunay.cpp). Checked against what the general pipeline promises:
 // exact Delaunay, every input point a vertex (exact duplicates merged and reported),
 // hull edges as boundary edges split at collinear hull points, Euler's count.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <random>
 #include <set>
 #include <string>
 #include <tuple>
-#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -36,13 +35,15 @@ Options dt_options() {
 std::set<std::pair<double, double>> hull_boundary_points(const std::vector<Vec2>& pts) {
   std::vector<Vec2> u = pts;
   std::sort(u.begin(), u.end(), [](Vec2 a, Vec2 b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
-  u.erase(std::unique(u.begin(), u.end(), [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }), u.end());
+  u.erase(std::unique(u.begin(), u.end(), [](Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }),
+          u.end());
   // Monotone chain keeping collinear points (<= 0 would drop them; < 0 keeps them).
   std::vector<Vec2> h;
   auto build = [&](auto begin, auto end) {
     const std::size_t base = h.size();
     for (auto it = begin; it != end; ++it) {
-      while (h.size() >= base + 2 && pred::orient2d(&h[h.size() - 2].x, &h.back().x, &it->x) < 0) h.pop_back();
+      while (h.size() >= base + 2 && pred::orient2d(&h[h.size() - 2].x, &h.back().x, &it->x) < 0)
+        h.pop_back();
       h.push_back(*it);
     }
     h.pop_back();
@@ -91,14 +92,16 @@ void check_hull_dt(const Pslg& in, const Result& r) {
 
 }  // namespace
 
-TEST_CASE("hull Delaunay: grid points (collinear hull sides, cocircular quads, duplicates)", "[hull_dt]") {
+TEST_CASE("hull Delaunay: grid points (collinear hull sides, cocircular quads, duplicates)",
+          "[hull_dt]") {
   std::mt19937_64 rng(7);
   for (int round = 0; round < 200; ++round) {
     const int g = 2 + static_cast<int>(rng() % 12);
     const int n = 3 + static_cast<int>(rng() % 300);
     Pslg in;
     for (int i = 0; i < n; ++i)
-      in.points.push_back({static_cast<double>(rng() % g) * 0.1, static_cast<double>(rng() % g) * 0.1});
+      in.points.push_back(
+          {static_cast<double>(rng() % g) * 0.1, static_cast<double>(rng() % g) * 0.1});
     const Result r = mesh(in, SizeSpec::uniform(0), dt_options());
     // Fewer than three distinct points or all on a line: reported, as in the general path.
     const auto hull = hull_boundary_points(in.points);
@@ -107,7 +110,8 @@ TEST_CASE("hull Delaunay: grid points (collinear hull sides, cocircular quads, d
     bool collinear = true;
     const Vec2 a = in.points[0];
     for (const Vec2& b : in.points)
-      for (const Vec2& c : in.points) collinear = collinear && pred::orient2d(&a.x, &b.x, &c.x) == 0;
+      for (const Vec2& c : in.points)
+        collinear = collinear && pred::orient2d(&a.x, &b.x, &c.x) == 0;
     INFO("round " << round << ", grid " << g << ", " << n << " points");
     if (collinear) {
       CHECK(r.status.code == StatusCode::InvalidInput);
@@ -131,7 +135,8 @@ TEST_CASE("hull Delaunay: 20000 random points, rotated grid and a circle", "[hul
     const std::int64_t R2 = 625 * 169;
     for (std::int64_t x = -325; x <= 325; ++x)
       for (std::int64_t y = -325; y <= 325; ++y)
-        if (x * x + y * y == R2) in.points.push_back({static_cast<double>(x), static_cast<double>(y)});
+        if (x * x + y * y == R2)
+          in.points.push_back({static_cast<double>(x), static_cast<double>(y)});
     REQUIRE(in.points.size() >= 12);
     in.points.push_back({0, 0});
     check_hull_dt(in, mesh(in, SizeSpec::uniform(0), dt_options()));
@@ -147,7 +152,8 @@ TEST_CASE("hull Delaunay: 20000 random points, rotated grid and a circle", "[hul
   }
 }
 
-TEST_CASE("hull Delaunay: the duplicate warning names the first copy and its original", "[hull_dt]") {
+TEST_CASE("hull Delaunay: the duplicate warning names the first copy and its original",
+          "[hull_dt]") {
   Pslg in;
   in.points = {{0, 0}, {1, 0}, {0, 1}, {1, 0}, {0, 0}, {1, 1}, {1, 0}};
   in.point_markers = {5, 6, 7, 8, 9, 10, 11};
@@ -164,12 +170,12 @@ TEST_CASE("hull Delaunay: the duplicate warning names the first copy and its ori
 }
 
 TEST_CASE("hull Delaunay: degenerate inputs are reported", "[hull_dt]") {
-  for (const std::vector<Vec2>& pts : std::vector<std::vector<Vec2>>{
-           {{0, 0}},
-           {{0, 0}, {1, 1}},
-           {{0, 0}, {0, 0}, {0, 0}, {0, 0}},
-           {{0, 0}, {1, 1}, {2, 2}, {3, 3}, {1, 1}},
-           {{1e-300, 0}, {2e-300, 0}, {3e-300, 0}}}) {
+  for (const std::vector<Vec2>& pts :
+       std::vector<std::vector<Vec2>>{{{0, 0}},
+                                      {{0, 0}, {1, 1}},
+                                      {{0, 0}, {0, 0}, {0, 0}, {0, 0}},
+                                      {{0, 0}, {1, 1}, {2, 2}, {3, 3}, {1, 1}},
+                                      {{1e-300, 0}, {2e-300, 0}, {3e-300, 0}}}) {
     Pslg in;
     in.points = pts;
     const Result r = mesh(in, SizeSpec::uniform(0), dt_options());
@@ -182,7 +188,8 @@ TEST_CASE("hull Delaunay: degenerate inputs are reported", "[hull_dt]") {
   check_hull_dt(in, mesh(in, SizeSpec::uniform(0), dt_options()));
 }
 
-TEST_CASE("hull Delaunay: nearly coincident, nearly collinear and nearly cocircular points", "[hull_dt]") {
+TEST_CASE("hull Delaunay: nearly coincident, nearly collinear and nearly cocircular points",
+          "[hull_dt]") {
   // Inputs on which the floating-point filters of orient2d and incircle cannot decide, so
   // that the exact stages run inside the walk and the cavity tests.
   std::mt19937_64 rng(23);
@@ -207,7 +214,8 @@ TEST_CASE("hull Delaunay: nearly coincident, nearly collinear and nearly cocircu
       const double t = base + static_cast<double>(rng() % 4096) * 0x1p-24;
       in.points.push_back({t, nudge(t)});
       const double a = static_cast<double>(rng() % 100000) * 6.283185307179586e-5;
-      in.points.push_back({nudge(base + 0x1p-18 * std::cos(a)), nudge(base + 0x1p-18 * std::sin(a))});
+      in.points.push_back(
+          {nudge(base + 0x1p-18 * std::cos(a)), nudge(base + 0x1p-18 * std::sin(a))});
     }
     check_hull_dt(in, mesh(in, SizeSpec::uniform(0), dt_options()));
   }

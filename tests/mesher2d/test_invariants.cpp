@@ -4,9 +4,8 @@
 // grid-snapped segments. Every case is checked by check() plus the properties each
 // family promises. Failures are collected per test and reported with the family and
 // seed, which reproduce the input: e.g. gen::star_with_holes(17).
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <exception>
 #include <map>
@@ -43,18 +42,27 @@ std::string first_errors(const CheckReport& r) {
 
 const char* code_name(StatusCode c) {
   switch (c) {
-    case StatusCode::Ok: return "Ok";
-    case StatusCode::InvalidInput: return "InvalidInput";
-    case StatusCode::CrossingSegments: return "CrossingSegments";
-    case StatusCode::OpenBoundary: return "OpenBoundary";
-    case StatusCode::Incomplete: return "Incomplete";
-    case StatusCode::InternalError: return "InternalError";
-    case StatusCode::TimeLimit: return "TimeLimit";
+    case StatusCode::Ok:
+      return "Ok";
+    case StatusCode::InvalidInput:
+      return "InvalidInput";
+    case StatusCode::CrossingSegments:
+      return "CrossingSegments";
+    case StatusCode::OpenBoundary:
+      return "OpenBoundary";
+    case StatusCode::Incomplete:
+      return "Incomplete";
+    case StatusCode::InternalError:
+      return "InternalError";
+    case StatusCode::TimeLimit:
+      return "TimeLimit";
   }
   return "?";
 }
 
-std::string status_str(const Status& s) { return std::string(code_name(s.code)) + " \"" + s.message + "\""; }
+std::string status_str(const Status& s) {
+  return std::string(code_name(s.code)) + " \"" + s.message + "\"";
+}
 
 // Runs the mesher, turning an exception into a failure.
 bool run(const gen::Case& c, const SizeSpec& size, const Options& opt, Result& r, Failures& f) {
@@ -128,13 +136,15 @@ TEST_CASE("CDT of random PSLGs of every family is valid and Delaunay", "[invaria
         if (h == 0) continue;  // all collinear: no 2D hull (the generators avoid it)
         const auto nt = static_cast<std::int64_t>(r.mesh.triangles.size());
         if (nt != 2 * n - 2 - h)
-          f.add(c, std::to_string(nt) + " triangles, expected 2n-2-h = " + std::to_string(2 * n - 2 - h) +
+          f.add(c, std::to_string(nt) +
+                       " triangles, expected 2n-2-h = " + std::to_string(2 * n - 2 - h) +
                        " (n=" + std::to_string(n) + ", h=" + std::to_string(h) + ")");
         else if (static_cast<std::int64_t>(r.mesh.vertices.size()) != n)
-          f.add(c, std::to_string(r.mesh.vertices.size()) + " vertices for " + std::to_string(n) + " distinct points");
+          f.add(c, std::to_string(r.mesh.vertices.size()) + " vertices for " + std::to_string(n) +
+                       " distinct points");
         else if (static_cast<std::int64_t>(r.mesh.boundary_edges.size()) != h)
-          f.add(c, std::to_string(r.mesh.boundary_edges.size()) + " constrained edges, expected the " +
-                       std::to_string(h) + " hull edges");
+          f.add(c, std::to_string(r.mesh.boundary_edges.size()) +
+                       " constrained edges, expected the " + std::to_string(h) + " hull edges");
       }
     }
     INFO("family " << fam.name);
@@ -145,7 +155,8 @@ TEST_CASE("CDT of random PSLGs of every family is valid and Delaunay", "[invaria
 // (c): refinement with a uniform size keeps the mesh valid, keeps the regions' attributes
 // (nested squares: the attribute of the innermost square containing the triangle), and
 // leaves nothing inside holes.
-TEST_CASE("refined meshes of random PSLGs are valid, with regions and holes respected", "[invariants][refine]") {
+TEST_CASE("refined meshes of random PSLGs are valid, with regions and holes respected",
+          "[invariants][refine]") {
   for (const auto& fam : gen::families()) {
     Failures f;
     for (std::uint64_t seed = 1; seed <= kRefineSeeds; ++seed) {
@@ -182,9 +193,12 @@ TEST_CASE("refined meshes of random PSLGs are valid, with regions and holes resp
         }
         double want = c.attribute_at(g);
         if (std::isnan(want)) want = 0;  // no region seed: attribute 0
-        if (r.mesh.triangle_attribute.size() != r.mesh.triangles.size() || r.mesh.triangle_attribute[t] != want) {
+        if (r.mesh.triangle_attribute.size() != r.mesh.triangles.size() ||
+            r.mesh.triangle_attribute[t] != want) {
           f.add(c, "triangle " + std::to_string(t) + " has attribute " +
-                       (r.mesh.triangle_attribute.size() > t ? std::to_string(r.mesh.triangle_attribute[t]) : "none") +
+                       (r.mesh.triangle_attribute.size() > t
+                            ? std::to_string(r.mesh.triangle_attribute[t])
+                            : "none") +
                        ", expected " + std::to_string(want));
           break;
         }
@@ -197,7 +211,8 @@ TEST_CASE("refined meshes of random PSLGs are valid, with regions and holes resp
 
 // (d): exact duplicates are merged, counted and reported; points one ulp apart are
 // distinct and all kept.
-TEST_CASE("duplicate points are merged and reported, 1-ulp neighbours kept", "[invariants][duplicates]") {
+TEST_CASE("duplicate points are merged and reported, 1-ulp neighbours kept",
+          "[invariants][duplicates]") {
   Failures f;
   for (std::uint64_t seed = 1; seed <= 1000; ++seed) {
     const gen::Case c = gen::duplicate_points(seed);
@@ -211,7 +226,8 @@ TEST_CASE("duplicate points are merged and reported, 1-ulp neighbours kept", "[i
     if (r.stats.duplicates_merged != c.exact_duplicates)
       f.add(c, "duplicates_merged " + std::to_string(r.stats.duplicates_merged) + ", expected " +
                    std::to_string(c.exact_duplicates));
-    if (c.exact_duplicates > 0 && r.status.warnings.empty()) f.add(c, "duplicates merged without a warning");
+    if (c.exact_duplicates > 0 && r.status.warnings.empty())
+      f.add(c, "duplicates merged without a warning");
     const CheckReport rep = check(r.mesh, c.pslg, {.delaunay = true});
     if (!rep.ok()) f.add(c, "check: " + first_errors(rep));
     if (r.mesh.input_vertex.size() != c.pslg.points.size()) {
@@ -227,13 +243,14 @@ TEST_CASE("duplicate points are merged and reported, 1-ulp neighbours kept", "[i
       auto it = seen.find(key);
       if (it == seen.end()) {
         if (!used.insert(v).second) {
-          f.add(c, "distinct input point " + std::to_string(i) + " shares vertex " + std::to_string(v));
+          f.add(c, "distinct input point " + std::to_string(i) + " shares vertex " +
+                       std::to_string(v));
           break;
         }
         seen.emplace(key, v);
       } else if (it->second != v) {
-        f.add(c, "duplicate input point " + std::to_string(i) + " maps to vertex " + std::to_string(v) +
-                     ", its twin to " + std::to_string(it->second));
+        f.add(c, "duplicate input point " + std::to_string(i) + " maps to vertex " +
+                     std::to_string(v) + ", its twin to " + std::to_string(it->second));
         break;
       }
     }
@@ -241,7 +258,8 @@ TEST_CASE("duplicate points are merged and reported, 1-ulp neighbours kept", "[i
   f.report();
 }
 
-TEST_CASE("duplicated polygon vertices referenced by segments are merged", "[invariants][duplicates]") {
+TEST_CASE("duplicated polygon vertices referenced by segments are merged",
+          "[invariants][duplicates]") {
   // A star polygon with holes where some vertices are repeated and segments use either
   // copy: after merging, the same domain as without the copies.
   Failures f;
@@ -265,7 +283,8 @@ TEST_CASE("duplicated polygon vertices referenced by segments are merged", "[inv
       continue;
     }
     if (r.stats.duplicates_merged != copies)
-      f.add(c, "duplicates_merged " + std::to_string(r.stats.duplicates_merged) + ", expected " + std::to_string(copies));
+      f.add(c, "duplicates_merged " + std::to_string(r.stats.duplicates_merged) + ", expected " +
+                   std::to_string(copies));
     if (copies > 0 && r.status.warnings.empty()) f.add(c, "duplicates merged without a warning");
     const CheckReport rep = check(r.mesh, c.pslg);
     if (!rep.ok()) f.add(c, "check: " + first_errors(rep));
@@ -288,7 +307,8 @@ TEST_CASE("crossing segments are reported or split", "[invariants][crossing]") {
       f.add(c, "split=false: status " + status_str(r.status) + ", expected CrossingSegments");
     } else {
       const auto& e = r.status.entities;
-      const bool names = std::find(e.begin(), e.end(), 4) != e.end() && std::find(e.begin(), e.end(), 5) != e.end();
+      const bool names = std::find(e.begin(), e.end(), 4) != e.end() &&
+                         std::find(e.begin(), e.end(), 5) != e.end();
       if (!names || r.status.message.find("segment 4") == std::string::npos ||
           r.status.message.find("segment 5") == std::string::npos)
         f.add(c, "split=false: status does not name segments 4 and 5: " + status_str(r.status));
@@ -307,7 +327,8 @@ TEST_CASE("crossing segments are reported or split", "[invariants][crossing]") {
       if (r.stats.crossings_split < 1) f.add(c, tag + "stats.crossings_split = 0");
       double best = 1e300;
       for (auto& v : r.mesh.vertices) best = std::min(best, std::hypot(v.x - x.x, v.y - x.y));
-      if (!(best <= 1e-9)) f.add(c, tag + "no vertex at the crossing point (nearest " + std::to_string(best) + ")");
+      if (!(best <= 1e-9))
+        f.add(c, tag + "no vertex at the crossing point (nearest " + std::to_string(best) + ")");
     }
   }
   f.report();
@@ -327,7 +348,8 @@ TEST_CASE("a segment through input vertices is split there", "[invariants][cross
         f.add(c, tag + "status " + status_str(r.status));
         continue;
       }
-      if (r.stats.segments_split_at_vertices < 1) f.add(c, tag + "stats.segments_split_at_vertices = 0");
+      if (r.stats.segments_split_at_vertices < 1)
+        f.add(c, tag + "stats.segments_split_at_vertices = 0");
       const CheckReport rep = check(r.mesh, c.pslg, {.delaunay = !refine});
       if (!rep.ok()) f.add(c, tag + "check: " + first_errors(rep));
       // Every point on the segment is a vertex with constrained edges on both sides.
@@ -335,8 +357,9 @@ TEST_CASE("a segment through input vertices is split there", "[invariants][cross
         const VertId v = r.mesh.input_vertex.size() > i ? r.mesh.input_vertex[i] : kNone;
         int deg = 0;
         for (auto& e : r.mesh.boundary_edges) deg += (e.a == v) + (e.b == v);
-        if (v == kNone || deg != 2) f.add(c, tag + "input point " + std::to_string(i) + " on segment 4 has " +
-                                           std::to_string(deg) + " constrained edges, expected 2");
+        if (v == kNone || deg != 2)
+          f.add(c, tag + "input point " + std::to_string(i) + " on segment 4 has " +
+                       std::to_string(deg) + " constrained edges, expected 2");
       }
     }
   }
@@ -353,8 +376,8 @@ TEST_CASE("a hole leaking through a gap in the boundary gives OpenBoundary", "[i
       Result r;
       if (!run(c, SizeSpec::uniform(c.h), refine ? Options{} : cdt_options(), r, f)) continue;
       if (r.status.code != StatusCode::OpenBoundary)
-        f.add(c, std::string(refine ? "refine=true" : "refine=false") + ": status " + status_str(r.status) +
-                     ", expected OpenBoundary");
+        f.add(c, std::string(refine ? "refine=true" : "refine=false") + ": status " +
+                     status_str(r.status) + ", expected OpenBoundary");
     }
   }
   f.report();

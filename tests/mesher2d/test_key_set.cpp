@@ -1,9 +1,8 @@
 // KeySet64 (mesher2d/src/key_set.h) against std::unordered_set on keys built like the
 // refinement's edge keys (a << 32 | b), on consecutive keys, and on keys that differ only
 // in their high bits, across several table growths.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdint>
 #include <random>
 #include <unordered_set>
@@ -37,7 +36,8 @@ TEST_CASE("key_set: edge keys from random vertex pairs, with repeats", "[mesher2
   same_as_reference(keys);
 }
 
-TEST_CASE("key_set: consecutive keys and keys differing only in their high bits", "[mesher2d][key_set]") {
+TEST_CASE("key_set: consecutive keys and keys differing only in their high bits",
+          "[mesher2d][key_set]") {
   std::vector<std::uint64_t> keys;
   for (std::uint64_t i = 0; i < 50000; ++i) keys.push_back(i);
   for (std::uint64_t i = 0; i < 50000; ++i) keys.push_back(i << 32);

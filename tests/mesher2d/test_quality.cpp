@@ -61,7 +61,8 @@ Result require_uniform_quality(const Pslg& in, double h) {
   Result r = mesh(in, SizeSpec::uniform(h));
   require_valid(r, in);
   const Quality& q = r.stats.quality;
-  INFO("h = " << h << " Q_M = " << q.q_max << " min angle " << q.min_angle_deg << " unit " << q.unit_edge_share);
+  INFO("h = " << h << " Q_M = " << q.q_max << " min angle " << q.min_angle_deg << " unit "
+              << q.unit_edge_share);
   CHECK(q.unit_edge_share >= 0.95);
   CHECK(q.q_max <= 1.2);
   CHECK(q.min_angle_deg >= 40);
@@ -87,7 +88,8 @@ TEST_CASE("uniform size on the unit square: unit edges and shape", "[quality]") 
 TEST_CASE("uniform size on the square with a circular hole", "[quality]") {
   for (const double h : {0.03, 0.01}) {
     // The hole's polygon has edges of about h, as a boundary discretized at size h has.
-    require_uniform_quality(square_with_hole(static_cast<int>(std::lround(2 * 3.14159265358979 * 0.25 / h))), h);
+    require_uniform_quality(
+        square_with_hole(static_cast<int>(std::lround(2 * 3.14159265358979 * 0.25 / h))), h);
   }
 }
 
@@ -103,13 +105,15 @@ TEST_CASE("uniform size on the square with a hole as the bench discretizes it", 
     for (int k = 0; k < 4; ++k)
       for (int i = 0; i < ns; ++i) {
         const double t = static_cast<double>(i) / ns;
-        in.points.push_back({c[k].x + t * (c[(k + 1) % 4].x - c[k].x), c[k].y + t * (c[(k + 1) % 4].y - c[k].y)});
+        in.points.push_back(
+            {c[k].x + t * (c[(k + 1) % 4].x - c[k].x), c[k].y + t * (c[(k + 1) % 4].y - c[k].y)});
       }
     const int n0 = static_cast<int>(in.points.size());
     for (int i = 0; i < n0; ++i) in.segments.push_back({i, (i + 1) % n0, 1});
     const int nc = static_cast<int>(std::ceil(2 * pi * 0.25 / h));
     for (int i = 0; i < nc; ++i)
-      in.points.push_back({0.5 + 0.25 * std::cos(2 * pi * i / nc), 0.5 + 0.25 * std::sin(2 * pi * i / nc)});
+      in.points.push_back(
+          {0.5 + 0.25 * std::cos(2 * pi * i / nc), 0.5 + 0.25 * std::sin(2 * pi * i / nc)});
     for (int i = 0; i < nc; ++i) in.segments.push_back({n0 + i, n0 + (i + 1) % nc, 2});
     in.holes.push_back({0.5, 0.5});
     require_uniform_quality(in, h);
@@ -123,8 +127,8 @@ Quality require_field_quality(const std::string& name, const SizeSpec& s) {
   const Result r = mesh(in, s);
   require_valid(r, in);
   const Quality& q = r.stats.quality;
-  INFO(name << ": " << r.mesh.triangles.size() << " triangles, metric Q_M = " << q.metric_q_max << " share<1.5 "
-            << q.metric_share_q_below_1_5 << " unit " << q.unit_edge_share);
+  INFO(name << ": " << r.mesh.triangles.size() << " triangles, metric Q_M = " << q.metric_q_max
+            << " share<1.5 " << q.metric_share_q_below_1_5 << " unit " << q.unit_edge_share);
   CHECK(q.unit_edge_share >= 0.95);
   CHECK(q.metric_q_max <= 2);
   CHECK(q.metric_share_q_below_1_5 >= 0.95);
@@ -137,7 +141,8 @@ TEST_CASE("linear isotropic field: unit edges", "[quality]") {
 
 TEST_CASE("anisotropic boundary layer bl: metric quality and unit edges", "[quality][aniso]") {
   for (const auto& [h0, hmax] : {std::pair{0.005, 0.05}, std::pair{0.001, 0.02}}) {
-    const Quality q = require_field_quality("bl:" + std::to_string(h0) + "," + std::to_string(hmax), fields::bl(h0, hmax));
+    const Quality q = require_field_quality("bl:" + std::to_string(h0) + "," + std::to_string(hmax),
+                                            fields::bl(h0, hmax));
     // Anisotropy is real: Euclidean shapes are stretched (bl asks for up to hmax/h0 : 1).
     CHECK(q.q_max > 3);
   }
@@ -153,7 +158,8 @@ TEST_CASE("anisotropic ring: metric quality and unit edges", "[quality][aniso]")
   // unit edges (ring:2e-4,0.015: 6.4, 91%, 89%); the worst triangles all lay within 10 h0
   // of the circle, where the metric turns by 2-3 degrees per tangential element.
   for (const auto& [h0, hmax] : {std::pair{0.002, 0.02}, std::pair{0.0001, 0.01}})
-    require_field_quality("ring:" + std::to_string(h0) + "," + std::to_string(hmax), fields::ring(h0, hmax));
+    require_field_quality("ring:" + std::to_string(h0) + "," + std::to_string(hmax),
+                          fields::ring(h0, hmax));
 }
 
 TEST_CASE("uniform field: vertices of the boundary stay where the input put them", "[quality]") {

@@ -3,7 +3,6 @@
 // the generator family and seed they came from (pslg_gen.h) and were shrunk by hand or
 // by deleting points and segments while the failure persisted.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -63,7 +62,8 @@ TEST_CASE("points on a 4x4 integer grid, all cocircular in groups of 4", "[regre
   // cavity; any diagonal is Delaunay. 16 points, 12 on the hull: 2*16 - 2 - 12 = 18.
   Pslg in;
   for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) in.points.push_back({static_cast<double>(i), static_cast<double>(j)});
+    for (int i = 0; i < 4; ++i)
+      in.points.push_back({static_cast<double>(i), static_cast<double>(j)});
   const Result r = mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
   CHECK(r.mesh.triangles.size() == 18);
   CHECK(r.mesh.vertices.size() == 16);
@@ -119,7 +119,9 @@ TEST_CASE("two segments meeting at 1 degree", "[regression]") {
   in.points.insert(in.points.end(), {{0, 0}, {0.8, 0}, {0.8 * std::cos(a), 0.8 * std::sin(a)}});
   in.segments.push_back({4, 5, 2});
   in.segments.push_back({4, 6, 2});
-  SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
+  SECTION("constrained Delaunay") {
+    mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+  }
   SECTION("refined") {
     const Result r = mesh_ok(in, SizeSpec::uniform(0.05), Options{}, false);
     CHECK(r.mesh.triangles.size() < 20000);  // 4 / (0.43 * 0.05^2) ~ 3700 expected
@@ -140,7 +142,9 @@ TEST_CASE("near-duplicate points 1 ulp apart", "[regression]") {
     CHECK(r.mesh.vertices.size() == 8);
     CHECK(r.mesh.input_vertex[8] == r.mesh.input_vertex[4]);
   }
-  SECTION("refined") { mesh_ok(in, SizeSpec::uniform(0.2), Options{}, false); }
+  SECTION("refined") {
+    mesh_ok(in, SizeSpec::uniform(0.2), Options{}, false);
+  }
 }
 
 TEST_CASE("hole touching the outer boundary at one vertex", "[regression]") {
@@ -160,7 +164,8 @@ TEST_CASE("hole touching the outer boundary at one vertex", "[regression]") {
                               : mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
       double area = 0;
       for (auto& t : r.mesh.triangles) {
-        const Vec2 &a = r.mesh.vertices[t[0]], &b = r.mesh.vertices[t[1]], &c = r.mesh.vertices[t[2]];
+        const Vec2 &a = r.mesh.vertices[t[0]], &b = r.mesh.vertices[t[1]],
+                   &c = r.mesh.vertices[t[2]];
         area += 0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
       }
       CHECK(area == Approx(16.0 - 2.0));  // square minus the hole
@@ -207,11 +212,17 @@ TEST_CASE("nearly collinear segments from one point on a 0.1-scaled grid", "[reg
   // whose segments do not cross (at commit cae6781).
   Pslg in;
   add_loop(in, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
-  in.points.insert(in.points.end(), {{0.6000000000000001, 0.30000000000000004}, {0.2, 0.7000000000000001}, {0.4, 0.5}});
+  in.points.insert(
+      in.points.end(),
+      {{0.6000000000000001, 0.30000000000000004}, {0.2, 0.7000000000000001}, {0.4, 0.5}});
   in.segments.push_back({4, 5, 2});
   in.segments.push_back({6, 5, 2});
-  SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
-  SECTION("refined, h = 0.07") { mesh_ok(in, SizeSpec::uniform(0.070002963690370873), Options{}, false); }
+  SECTION("constrained Delaunay") {
+    mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+  }
+  SECTION("refined, h = 0.07") {
+    mesh_ok(in, SizeSpec::uniform(0.070002963690370873), Options{}, false);
+  }
 }
 
 TEST_CASE("nearly overlapping collinear segments on a 0.1-scaled grid", "[regression]") {
@@ -223,12 +234,18 @@ TEST_CASE("nearly overlapping collinear segments on a 0.1-scaled grid", "[regres
   // (points 1-2)".
   Pslg in;
   add_loop(in, {{0.5, 0}, {1.5, 0}, {1.5, 1}, {0.5, 1}}, 1);
-  in.points.insert(in.points.end(),
-                   {{1.3, 0.30000000000000004}, {0.9, 0.7000000000000001}, {1.2000000000000002, 0.4}, {1, 0.6000000000000001}});
+  in.points.insert(in.points.end(), {{1.3, 0.30000000000000004},
+                                     {0.9, 0.7000000000000001},
+                                     {1.2000000000000002, 0.4},
+                                     {1, 0.6000000000000001}});
   in.segments.push_back({5, 6, 2});
   in.segments.push_back({7, 4, 2});
-  SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
-  SECTION("refined, h = 0.037") { mesh_ok(in, SizeSpec::uniform(0.036975942097876947), Options{}, false); }
+  SECTION("constrained Delaunay") {
+    mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+  }
+  SECTION("refined, h = 0.037") {
+    mesh_ok(in, SizeSpec::uniform(0.036975942097876947), Options{}, false);
+  }
 }
 
 TEST_CASE("three nearly collinear segments from one point on a 0.1-scaled grid", "[regression]") {
@@ -241,19 +258,29 @@ TEST_CASE("three nearly collinear segments from one point on a 0.1-scaled grid",
   // 0.1 pass), for an input whose segments meet only at their shared end.
   Pslg in;
   add_loop(in, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
-  in.points.insert(in.points.end(), {{0.6000000000000001, 0.2}, {0.2, 0.6000000000000001}, {0.4, 0.4},
+  in.points.insert(in.points.end(), {{0.6000000000000001, 0.2},
+                                     {0.2, 0.6000000000000001},
+                                     {0.4, 0.4},
                                      {0.30000000000000004, 0.5}});
   in.segments.push_back({5, 4, 2});
   in.segments.push_back({4, 7, 2});
   in.segments.push_back({4, 6, 2});
-  SECTION("constrained Delaunay") { mesh_ok(in, SizeSpec::uniform(0), cdt(), true); }
-  SECTION("refined, h = 0.05") { mesh_ok(in, SizeSpec::uniform(0.05), Options{}, false); }
-  SECTION("refined, h = 0.0595") { mesh_ok(in, SizeSpec::uniform(0.059501741166982348), Options{}, false); }
+  SECTION("constrained Delaunay") {
+    mesh_ok(in, SizeSpec::uniform(0), cdt(), true);
+  }
+  SECTION("refined, h = 0.05") {
+    mesh_ok(in, SizeSpec::uniform(0.05), Options{}, false);
+  }
+  SECTION("refined, h = 0.0595") {
+    mesh_ok(in, SizeSpec::uniform(0.059501741166982348), Options{}, false);
+  }
   SECTION("the fan of gen::random_segments(179), refined, h = 0.03, 0.05, 0.0636") {
     // From (0.6,0.3) to (0.1,0.8), (0.2,0.7) and (0.3,0.6), on x + y = 0.9 on paper.
     Pslg f;
     add_loop(f, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 1);
-    f.points.insert(f.points.end(), {{0.2, 0.7000000000000001}, {0.1, 0.8}, {0.30000000000000004, 0.6000000000000001},
+    f.points.insert(f.points.end(), {{0.2, 0.7000000000000001},
+                                     {0.1, 0.8},
+                                     {0.30000000000000004, 0.6000000000000001},
                                      {0.6000000000000001, 0.30000000000000004}});
     f.segments.push_back({5, 7, 2});
     f.segments.push_back({7, 4, 2});
@@ -291,7 +318,8 @@ TEST_CASE("two nearly collinear segments from one point enclose nothing", "[regr
   }
 }
 
-TEST_CASE("domain_from_orientation: a clockwise loop and no hole seed is an error, not a crash", "[regression]") {
+TEST_CASE("domain_from_orientation: a clockwise loop and no hole seed is an error, not a crash",
+          "[regression]") {
   // occt_caxif_k1: a face whose only loop came out clockwise in (u,v). Every component was
   // removed by the orientation vote, and the error message then indexed the hole seeds
   // with -1 (no hole had been used): a segmentation fault in color().
@@ -304,7 +332,8 @@ TEST_CASE("domain_from_orientation: a clockwise loop and no hole seed is an erro
   CHECK(r.status.message.find("left") != std::string::npos);
 }
 
-TEST_CASE("domain_from_orientation: a dangling segment chain inside keeps the face on both sides", "[regression]") {
+TEST_CASE("domain_from_orientation: a dangling segment chain inside keeps the face on both sides",
+          "[regression]") {
   // An embedded CAD edge (a crack): its segments have the domain on both sides, so its
   // half-edges cancel in the vote and the constraint is kept in the mesh.
   Pslg g;

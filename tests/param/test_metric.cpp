@@ -1,7 +1,6 @@
 // Metric algebra properties (chapter 7.6.1): lengths, eigen-decomposition, intersection,
 // interpolation, anisotropy cap, varying-metric edge length.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <random>
 
@@ -38,8 +37,8 @@ VecN<N> random_vec(std::mt19937& rng) {
 }  // namespace
 
 TEST_CASE("metric: from_sizes gives unit length to h_i along d_i", "[param][metric]") {
-  const Metric2 m = Metric2::from_sizes({glm::dvec2(1, 1) / std::sqrt(2.0), glm::dvec2(-1, 1) / std::sqrt(2.0)},
-                                        {0.5, 4.0});
+  const Metric2 m = Metric2::from_sizes(
+      {glm::dvec2(1, 1) / std::sqrt(2.0), glm::dvec2(-1, 1) / std::sqrt(2.0)}, {0.5, 4.0});
   CHECK(m.length(glm::dvec2(1, 1) / std::sqrt(2.0) * 0.5) == Approx(1.0));
   CHECK(m.length(glm::dvec2(-1, 1) / std::sqrt(2.0) * 4.0) == Approx(1.0));
   CHECK(m.anisotropy() == Approx(8.0));
@@ -62,8 +61,9 @@ TEST_CASE("metric: eigen-decomposition reconstructs the matrix", "[param][metric
   }
 }
 
-TEMPLATE_TEST_CASE_SIG("metric: intersection contains both unit balls' constraints and is the largest such",
-                       "[param][metric]", ((int N), N), 2, 3) {
+TEMPLATE_TEST_CASE_SIG(
+    "metric: intersection contains both unit balls' constraints and is the largest such",
+    "[param][metric]", ((int N), N), 2, 3) {
   std::mt19937 rng(11 + N);
   for (int t = 0; t < 300; ++t) {
     const Metric<N> a = random_metric<N>(rng), b = random_metric<N>(rng);
@@ -95,7 +95,8 @@ TEMPLATE_TEST_CASE_SIG("metric: intersection contains both unit balls' constrain
       for (int j = 0; j < N; ++j) {
         const double scale = a.eigen().values[N - 1];
         CHECK(same(i, j) == Approx(a(i, j)).margin(1e-9 * scale));
-        CHECK(intersect(b, a)(i, j) == Approx(c(i, j)).margin(1e-7 * (scale + b.eigen().values[N - 1])));
+        CHECK(intersect(b, a)(i, j) ==
+              Approx(c(i, j)).margin(1e-7 * (scale + b.eigen().values[N - 1])));
       }
   }
 }
@@ -137,6 +138,7 @@ TEST_CASE("metric: edge length under a varying metric (eq. 7.10)", "[param][metr
   const double l = edge_length<2>(M, glm::dvec2(d, 0.0), 1e-10);
   CHECK(l == Approx(d * std::log(h1 / h0) / (h1 - h0)).epsilon(1e-8));
   // Constant metric: the plain metric length.
-  const Metric3 c = Metric3::from_sizes({glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)}, {1, 2, 4});
+  const Metric3 c = Metric3::from_sizes(
+      {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)}, {1, 2, 4});
   CHECK(edge_length<3>([&](double) { return c; }, glm::dvec3(1, 2, 4)) == Approx(std::sqrt(3.0)));
 }

@@ -1,6 +1,5 @@
 // Curvature (exact on analytic surfaces), size formulas, induced metric, gradation.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -13,7 +12,9 @@ using geom::Vec3;
 
 namespace {
 const double kPi = std::numbers::pi;
-geom::Frame tilted() { return geom::Frame::from_axis({1.0, -2.0, 0.5}, {0.3, 0.4, 1.0}); }
+geom::Frame tilted() {
+  return geom::Frame::from_axis({1.0, -2.0, 0.5}, {0.3, 0.4, 1.0});
+}
 }  // namespace
 
 TEST_CASE("curvature is exact on sphere, cylinder, cone and torus", "[param][curvature]") {
@@ -117,7 +118,8 @@ TEST_CASE("induced metric gives the true 3D length of small (u,v) steps", "[para
   }
 }
 
-TEST_CASE("induced metric at a pole is finite, SPD and capped, and periodic across a seam", "[param][induced]") {
+TEST_CASE("induced metric at a pole is finite, SPD and capped, and periodic across a seam",
+          "[param][induced]") {
   auto s = geom::make_sphere(geom::Frame{}, 1.0);
   param::SizeSpec spec;
   spec.hmax = 0.1;
@@ -130,9 +132,10 @@ TEST_CASE("induced metric at a pole is finite, SPD and capped, and periodic acro
   CHECK(pole.length({0.0, 0.1}) == Approx(1.0));
   // Seam: same metric at u and u + 2 pi.
   auto cyl = geom::make_torus(geom::Frame{}, 3.0, 1.0);
-  const param::Metric2 a = param::induced_metric(param::surface_metric(*cyl, 0.0, 0.4, spec), cyl->eval(0.0, 0.4), spec);
-  const param::Metric2 b =
-      param::induced_metric(param::surface_metric(*cyl, 2 * kPi, 0.4, spec), cyl->eval(2 * kPi, 0.4), spec);
+  const param::Metric2 a =
+      param::induced_metric(param::surface_metric(*cyl, 0.0, 0.4, spec), cyl->eval(0.0, 0.4), spec);
+  const param::Metric2 b = param::induced_metric(param::surface_metric(*cyl, 2 * kPi, 0.4, spec),
+                                                 cyl->eval(2 * kPi, 0.4), spec);
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) CHECK(a(i, j) == Approx(b(i, j)).margin(1e-9 * a(0, 0)));
 }
@@ -155,9 +158,9 @@ TEST_CASE("gradation: neighbouring sizes never grow faster than beta", "[param][
     CHECK(hj <= (hi + (beta - 1.0) * 0.1) * (1 + 1e-9));
     CHECK(hi <= (hj + (beta - 1.0) * 0.1) * (1 + 1e-9));
   }
-  CHECK(ms[50].sizes()[0] == Approx(0.001));             // sizes only get finer
+  CHECK(ms[50].sizes()[0] == Approx(0.001));              // sizes only get finer
   CHECK(ms[60].sizes()[0] == Approx(0.001 + 0.2 * 1.0));  // h grows linearly with distance
-  CHECK(param::gradate(ms, pts, edges, beta) == 0);      // a fixed point
+  CHECK(param::gradate(ms, pts, edges, beta) == 0);       // a fixed point
 }
 
 TEST_CASE("face size field: background grid is gradated and interpolates", "[param][gradation]") {

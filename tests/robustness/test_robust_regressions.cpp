@@ -2,7 +2,6 @@
 // (tests/fuzz): each case is the smallest input that showed the bug, and what the reader
 // must answer now. Names start with "robust:" so that `ctest -R robust` selects them.
 #include <catch2/catch.hpp>
-
 #include <sstream>
 #include <string>
 
@@ -24,7 +23,9 @@ uvmesh::cli2d::PolyRead parse_poly(const std::string& text) {
   return uvmesh::cli2d::parse_poly(in, "domain.poly");
 }
 
-std::string data_file(const std::string& name) { return std::string(UVMESH_SOURCE_DIR) + "/tests/robustness/data/" + name; }
+std::string data_file(const std::string& name) {
+  return std::string(UVMESH_SOURCE_DIR) + "/tests/robustness/data/" + name;
+}
 
 // A mesher2d finding of fuzz_poly_mesh2d: the snapped PSLG it met, meshed as it did
 // (with and without refinement). m2d::mesh answered Ok and m2d::check rejected the mesh.
@@ -38,7 +39,8 @@ void mesher2d_finding(const std::string& file, double h) {
   for (const bool refine : {true, false}) {
     INFO("refine " << refine);
     opt.refine = refine;
-    const uvmesh::m2d::Result r = uvmesh::m2d::mesh(pr.poly.pslg, uvmesh::m2d::SizeSpec::uniform(h), opt);
+    const uvmesh::m2d::Result r =
+        uvmesh::m2d::mesh(pr.poly.pslg, uvmesh::m2d::SizeSpec::uniform(h), opt);
     INFO(r.status.message);
     REQUIRE(r.usable());
     uvmesh::m2d::CheckOptions co;
@@ -54,7 +56,8 @@ const std::string kTet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\n
 
 }  // namespace
 
-TEST_CASE("robust: OBJ tag counts near INT_MAX do not overflow the argument count", "[robust][subd]") {
+TEST_CASE("robust: OBJ tag counts near INT_MAX do not overflow the argument count",
+          "[robust][subd]") {
   // The three counts were summed in int: 2147483647 + 1 is undefined behaviour (UBSan) and
   // the message announced -2147483648 arguments.
   const auto r = parse_cage(kTet + "t crease 2147483647/1/0 1\n");
@@ -65,12 +68,15 @@ TEST_CASE("robust: OBJ tag counts near INT_MAX do not overflow the argument coun
   CHECK_THAT(r3.error, Catch::Contains("announces 6442450941 arguments"));
 }
 
-TEST_CASE("robust: OBJ vertex coordinates beyond 1e12 are rejected like the CAD readers'", "[robust][subd]") {
+TEST_CASE("robust: OBJ vertex coordinates beyond 1e12 are rejected like the CAD readers'",
+          "[robust][subd]") {
   // 1e300 was accepted; every face then failed in the mesher ("metric not SPD") and an
   // empty mesh was written.
   const auto r = parse_cage("v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n");
   REQUIRE_FALSE(r.ok);
-  CHECK(r.error == "cage.obj:2: vertex coordinate 1e300 is beyond the accepted magnitude 1e12 (corrupted coordinate?)");
+  CHECK(r.error ==
+        "cage.obj:2: vertex coordinate 1e300 is beyond the accepted magnitude 1e12 (corrupted "
+        "coordinate?)");
   CHECK(parse_cage("v 0 0 0\nv -1e12 0 0\nv 0 1 0\nf 1 2 3\n").ok);  // the bound itself is fine
 }
 
@@ -83,7 +89,8 @@ TEST_CASE("robust: an empty OBJ cage says so instead of 'line 0: no faces'", "[r
   CHECK(c.error == "cage.obj:1: no faces");
 }
 
-TEST_CASE("robust: binary bytes in a .poly field are escaped in the one-line message", "[robust][poly]") {
+TEST_CASE("robust: binary bytes in a .poly field are escaped in the one-line message",
+          "[robust][poly]") {
   // Raw bytes (newlines, escape sequences) went to the terminal inside the message.
   const auto r = parse_poly("\x01\x1b[2J\xff\n");
   REQUIRE_FALSE(r.ok());
@@ -98,7 +105,8 @@ TEST_CASE("robust: binary bytes in a .poly field are escaped in the one-line mes
 // the segment as leaving the domain, and never marked the piece (1,1)-(0,1) beyond the gap,
 // which it then called a constrained edge on no segment. The checker now accepts an
 // unmarked constrained edge that lies on some input segment.
-TEST_CASE("robust: mesher2d with duplicate points and degenerate segments (fuzz finding 1)", "[robust][mesher2d]") {
+TEST_CASE("robust: mesher2d with duplicate points and degenerate segments (fuzz finding 1)",
+          "[robust][mesher2d]") {
   mesher2d_finding("fuzz_mesher2d_duplicate_points.poly", 0.0);
 }
 
@@ -107,7 +115,8 @@ TEST_CASE("robust: mesher2d with duplicate points and degenerate segments (fuzz 
 // discretization split it twice, the second time with points rounded off the first
 // chain. Overlapping pieces are now merged at enforcement (one record per edge, as
 // Triangle keeps one subsegment).
-TEST_CASE("robust: mesher2d with a node inside a segment, overlapping segments (fuzz finding 2)", "[robust][mesher2d]") {
+TEST_CASE("robust: mesher2d with a node inside a segment, overlapping segments (fuzz finding 2)",
+          "[robust][mesher2d]") {
   mesher2d_finding("fuzz_mesher2d_overlapping_segments.poly", 0.37);
 }
 
@@ -117,19 +126,24 @@ TEST_CASE("robust: mesher2d with a node inside a segment, overlapping segments (
 // triangle (a crash inside OpenSubdiv, reached through model_from_cage; the cage parses).
 // model_from_cage now rejects a face that runs along an edge and back (x y y x) before
 // OpenSubdiv sees it; faces that repeat a vertex otherwise still go to OpenSubdiv.
-TEST_CASE("robust: OBJ cage that crashes OpenSubdiv's findEdge is rejected by line (fuzz finding 3)", "[robust][subd]") {
-  const uvmesh::geom::SubdCageResult c = uvmesh::geom::read_obj_cage(data_file("fuzz_osd_findedge_crash.obj"));
+TEST_CASE(
+    "robust: OBJ cage that crashes OpenSubdiv's findEdge is rejected by line (fuzz finding 3)",
+    "[robust][subd]") {
+  const uvmesh::geom::SubdCageResult c =
+      uvmesh::geom::read_obj_cage(data_file("fuzz_osd_findedge_crash.obj"));
   REQUIRE(c.ok);
   uvmesh::geom::SubdOptions o;
   o.scheme = uvmesh::geom::SubdScheme::CatmullClark;
   o.boundary = uvmesh::geom::SubdBoundary::EdgeOnly;
   const uvmesh::geom::SubdModelResult m = uvmesh::geom::model_from_cage(c.cage, o);
   REQUIRE_FALSE(m.ok);
-  CHECK_THAT(m.error, Catch::EndsWith("fuzz_osd_findedge_crash.obj:6: face 1 runs along the edge 4-1 and back "
-                                      "(vertices 4 1 1 4 in a row): a folded face, which OpenSubdiv 3.5 cannot "
-                                      "evaluate"));
+  CHECK_THAT(m.error, Catch::EndsWith(
+                          "fuzz_osd_findedge_crash.obj:6: face 1 runs along the edge 4-1 and back "
+                          "(vertices 4 1 1 4 in a row): a folded face, which OpenSubdiv 3.5 cannot "
+                          "evaluate"));
   // The same fold in any rotation of the face, and with the triangle gone.
-  for (const char* f : {"f 1 3 2\nf 1 1 4 3 1 2 4\n", "f 1 3 2\nf 4 3 1 2 4 1 1\n", "f 1 2 4 1 1 4 3\n"}) {
+  for (const char* f :
+       {"f 1 3 2\nf 1 1 4 3 1 2 4\n", "f 1 3 2\nf 4 3 1 2 4 1 1\n", "f 1 2 4 1 1 4 3\n"}) {
     INFO(f);
     const auto r = parse_cage(std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n") + f);
     REQUIRE(r.ok);
@@ -137,7 +151,8 @@ TEST_CASE("robust: OBJ cage that crashes OpenSubdiv's findEdge is rejected by li
   }
   // Repeated vertices that are not a fold stay with OpenSubdiv (catmark_nonman_edges has
   // "x y x z" and "x x y z" faces; "x x y y" has two distinct vertices and no patch).
-  for (const char* f : {"f 1 3 2\nf 1 2 4 1 4 3\n", "f 1 3 2\nf 1 2 4 4 3\n", "f 1 3 2\nf 2 2 4 4\n"}) {
+  for (const char* f :
+       {"f 1 3 2\nf 1 2 4 1 4 3\n", "f 1 3 2\nf 1 2 4 4 3\n", "f 1 3 2\nf 2 2 4 4\n"}) {
     INFO(f);
     const auto r = parse_cage(std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n") + f);
     REQUIRE(r.ok);
@@ -147,7 +162,9 @@ TEST_CASE("robust: OBJ cage that crashes OpenSubdiv's findEdge is rejected by li
   }
 }
 
-TEST_CASE("robust: obj_cage_crease_next_to_valence_2_vertex (fuzz finding: OpenSubdiv findEdge crash)", "[robust][subd]") {
+TEST_CASE(
+    "robust: obj_cage_crease_next_to_valence_2_vertex (fuzz finding: OpenSubdiv findEdge crash)",
+    "[robust][subd]") {
   // fuzz_obj_cage, session 7: four quads of a broken cube in which faces 0 and 3 share
   // both edges of vertex 0 (an interior vertex of valence 2), and a crease on edge 0-1.
   // OpenSubdiv 3.5's Bfr read out of bounds in Vtr::Level::findEdge (SEGV, also in the
@@ -166,8 +183,9 @@ TEST_CASE("robust: obj_cage_crease_next_to_valence_2_vertex (fuzz finding: OpenS
       REQUIRE(r.ok);
       const auto m = uvmesh::geom::model_from_cage(r.cage, o);
       REQUIRE_FALSE(m.ok);
-      CHECK_THAT(m.error, Catch::Contains(":13: crease on edge") &&
-                              Catch::Contains("touches face 0, which folds onto face 3 at vertex 0"));
+      CHECK_THAT(m.error,
+                 Catch::Contains(":13: crease on edge") &&
+                     Catch::Contains("touches face 0, which folds onto face 3 at vertex 0"));
     }
     // Without the crease, or with it away from those two faces, the cage is meshed.
     for (const std::string tail : {"", "t crease 2/1/0 4 5 3.0\n"}) {
@@ -180,7 +198,10 @@ TEST_CASE("robust: obj_cage_crease_next_to_valence_2_vertex (fuzz finding: OpenS
   }
 }
 
-TEST_CASE("robust: obj_cage_crease_at_nonmanifold_valence_2_fan (fuzz finding: OpenSubdiv findEdge crash)", "[robust][subd]") {
+TEST_CASE(
+    "robust: obj_cage_crease_at_nonmanifold_valence_2_fan (fuzz finding: OpenSubdiv findEdge "
+    "crash)",
+    "[robust][subd]") {
   // fuzz_obj_cage, session 8: a cube whose six quads are wired so that faces 0 and 3
   // share both edges of vertex 0, while a third face (5) touches vertex 0 as a second
   // fan. Vertex 0 has three faces and four edges, so the valence test of
@@ -198,8 +219,8 @@ TEST_CASE("robust: obj_cage_crease_at_nonmanifold_valence_2_fan (fuzz finding: O
     REQUIRE(r.ok);
     const auto m = uvmesh::geom::model_from_cage(r.cage, o);
     REQUIRE_FALSE(m.ok);
-    CHECK_THAT(m.error, Catch::Contains(":15: crease on edge") && Catch::Contains("folds onto face") &&
-                            Catch::Contains("at vertex 0"));
+    CHECK_THAT(m.error, Catch::Contains(":15: crease on edge") &&
+                            Catch::Contains("folds onto face") && Catch::Contains("at vertex 0"));
   }
   // Away from the two folded faces the crease is kept and the cage is meshed.
   for (const std::string tail : {"", "t crease 2/1/0 4 5 3.0\n"}) {
@@ -210,29 +231,39 @@ TEST_CASE("robust: obj_cage_crease_at_nonmanifold_valence_2_fan (fuzz finding: O
   }
 }
 
-TEST_CASE("robust: a PLY face_id beyond int's range is an error, not undefined behaviour (fuzz_mesh_ply)", "[robust][io]") {
+TEST_CASE(
+    "robust: a PLY face_id beyond int's range is an error, not undefined behaviour (fuzz_mesh_ply)",
+    "[robust][io]") {
   // The double was cast to int unchecked (UBSan: "2.00001e+24 is outside the range of
   // representable values of type 'int'").
   const std::string head =
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
-      "element face 1\nproperty list uchar int vertex_indices\nproperty double face_id\nend_header\n"
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty "
+      "double z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nproperty double "
+      "face_id\nend_header\n"
       "0 0 0\n1 0 0\n0 1 0\n";
   for (const char* id : {"2e24", "-3", "1.5", "nan"}) {
     INFO(id);
-    const auto r = uvmesh::io::read_mesh_data(head + "3 0 1 2 " + id + "\n", uvmesh::io::MeshFormat::Ply, "f.ply");
+    const auto r = uvmesh::io::read_mesh_data(head + "3 0 1 2 " + id + "\n",
+                                              uvmesh::io::MeshFormat::Ply, "f.ply");
     CHECK_FALSE(r.ok);
     CHECK_THAT(r.error, Catch::StartsWith("f.ply: line 14: "));
   }
-  const auto ok = uvmesh::io::read_mesh_data(head + "3 0 1 2 7\n", uvmesh::io::MeshFormat::Ply, "f.ply");
+  const auto ok =
+      uvmesh::io::read_mesh_data(head + "3 0 1 2 7\n", uvmesh::io::MeshFormat::Ply, "f.ply");
   REQUIRE(ok.ok);
   CHECK(ok.mesh.triangle_face == std::vector<uvmesh::geom::Id>{7});
 }
 
-TEST_CASE("robust: a PLY vertex index beyond long long's range is reported without a cast (fuzz_mesh_ply)", "[robust][io]") {
+TEST_CASE(
+    "robust: a PLY vertex index beyond long long's range is reported without a cast "
+    "(fuzz_mesh_ply)",
+    "[robust][io]") {
   // The message cast the double index to long long (UBSan: "8.88889e+19 is outside the
   // range of representable values of type 'long long'").
   const std::string ply =
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty "
+      "double z\n"
       "element face 1\nproperty list uchar double vertex_indices\nend_header\n"
       "0 0 0\n1 0 0\n0 1 0\n3 0 1 8.88889e19\n";
   const auto r = uvmesh::io::read_mesh_data(ply, uvmesh::io::MeshFormat::Ply, "f.ply");
@@ -240,7 +271,9 @@ TEST_CASE("robust: a PLY vertex index beyond long long's range is reported witho
   CHECK(r.error == "f.ply: line 13: vertex index 8.88889e+19 out of range");
 }
 
-TEST_CASE("robust: a PLY element without properties is skipped, not looped over (fuzz_mesh_ply timeout)", "[robust][io]") {
+TEST_CASE(
+    "robust: a PLY element without properties is skipped, not looped over (fuzz_mesh_ply timeout)",
+    "[robust][io]") {
   // "element x 1144441892" with no properties: the reader looped a billion times reading
   // nothing (a 10 s libFuzzer timeout). Such an element holds no data; a vertex or face
   // element without properties is an error (it pushed one point per entry).
@@ -254,8 +287,9 @@ TEST_CASE("robust: a PLY element without properties is skipped, not looped over 
   REQUIRE(r.ok);
   CHECK(r.mesh.points.size() == 3);
   CHECK(r.mesh.triangles.size() == 1);
-  const auto v = uvmesh::io::read_mesh_data("ply\nformat ascii 1.0\nelement vertex 2147483647\nelement face 0\nend_header\n",
-                                            uvmesh::io::MeshFormat::Ply, "f.ply");
+  const auto v = uvmesh::io::read_mesh_data(
+      "ply\nformat ascii 1.0\nelement vertex 2147483647\nelement face 0\nend_header\n",
+      uvmesh::io::MeshFormat::Ply, "f.ply");
   CHECK_FALSE(v.ok);
   CHECK(v.error == "f.ply: line 6: element 'vertex' has 2147483647 entries but no properties");
 }

@@ -5,20 +5,18 @@
 //  - `make_bracket` run again into a temporary folder gives a model with the same
 //    topology counts and surface kinds as the bundled file;
 //  - an unwritable output gives one error line, a non-zero exit and no file.
-#include <catch2/catch.hpp>
-
-#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -57,7 +55,8 @@ struct TempDir {
 
 Run run(const std::string& exe, const std::string& args, const fs::path& dir) {
   const fs::path out = dir / "run.out", err = dir / "run.err";
-  const std::string cmd = "timeout 300 " + exe + " " + args + " >" + out.string() + " 2>" + err.string();
+  const std::string cmd =
+      "timeout 300 " + exe + " " + args + " >" + out.string() + " 2>" + err.string();
   const int st = std::system(cmd.c_str());
   Run r;
   r.rc = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
@@ -75,7 +74,8 @@ json info(const std::string& model, const fs::path& dir) {
 
 }  // namespace
 
-TEST_CASE("bracket: the bundled bracket.step is one clean closed solid in mm", "[samples][bracket]") {
+TEST_CASE("bracket: the bundled bracket.step is one clean closed solid in mm",
+          "[samples][bracket]") {
   TempDir tmp;
   REQUIRE(fs::exists(kBundled));
   const json j = info(kBundled, tmp.path);
@@ -98,7 +98,8 @@ TEST_CASE("bracket: the bundled bracket.step is one clean closed solid in mm", "
   CHECK(diag < 200.0);
 }
 
-TEST_CASE("bracket: make_bracket regenerates the bundled model (same counts and kinds)", "[samples][bracket]") {
+TEST_CASE("bracket: make_bracket regenerates the bundled model (same counts and kinds)",
+          "[samples][bracket]") {
   TempDir tmp;
   const fs::path out = tmp.path / "bracket.step";
   const Run r = run(kMakeBracket, out.string(), tmp.path);
@@ -122,10 +123,12 @@ TEST_CASE("bracket: make_bracket regenerates the bundled model (same counts and 
   CHECK(fresh["curve_kinds"] == bundled["curve_kinds"]);
   CHECK(fresh["free_edges"] == 0);
   CHECK(fresh["units"] == bundled["units"]);
-  CHECK(fresh["bbox"]["diagonal"].get<double>() == Approx(bundled["bbox"]["diagonal"].get<double>()).epsilon(1e-9));
+  CHECK(fresh["bbox"]["diagonal"].get<double>() ==
+        Approx(bundled["bbox"]["diagonal"].get<double>()).epsilon(1e-9));
 }
 
-TEST_CASE("bracket: an unwritable output is one error line, exit 1, no file", "[samples][bracket]") {
+TEST_CASE("bracket: an unwritable output is one error line, exit 1, no file",
+          "[samples][bracket]") {
   TempDir tmp;
   const fs::path out = tmp.path / "no_such_dir" / "bracket.step";
   const Run r = run(kMakeBracket, out.string(), tmp.path);

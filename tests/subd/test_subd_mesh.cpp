@@ -7,11 +7,10 @@
 //   * creases (sharpness > 0 edges) and corners are mesh edges and vertices;
 //   * >= 95% of the triangles with Q < 1.5.
 // One line per cage is printed (the acceptance table of the closing note).
-#include <catch2/catch.hpp>
-
 #include <unistd.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -30,7 +29,9 @@ using namespace uvmesh;
 
 namespace {
 
-std::string cage_path(const std::string& name) { return std::string(UVMESH_SHARED_DATA) + "/subd/" + name; }
+std::string cage_path(const std::string& name) {
+  return std::string(UVMESH_SHARED_DATA) + "/subd/" + name;
+}
 
 struct Case {
   std::string name;
@@ -42,10 +43,12 @@ struct Case {
 };
 
 const std::vector<Case> kCases = {
-    {"catmark_cube.obj", true},          {"catmark_cube_creases1.obj", true}, {"catmark_chaikin0.obj", true},
-    {"catmark_torus.obj", true},         {"loop_icosahedron.obj", true},      {"loop_cube_creases1.obj", true},
-    {"catmark_tent_creases1.obj", false}, {"catmark_helmet.obj", false},      {"catmark_pole64.obj", false},
-    {"catmark_nonman_edges.obj", false}, {"catmark_pawn.obj", false},         {"catmark_car.obj", false, true}};
+    {"catmark_cube.obj", true},           {"catmark_cube_creases1.obj", true},
+    {"catmark_chaikin0.obj", true},       {"catmark_torus.obj", true},
+    {"loop_icosahedron.obj", true},       {"loop_cube_creases1.obj", true},
+    {"catmark_tent_creases1.obj", false}, {"catmark_helmet.obj", false},
+    {"catmark_pole64.obj", false},        {"catmark_nonman_edges.obj", false},
+    {"catmark_pawn.obj", false},          {"catmark_car.obj", false, true}};
 
 // The limit surface of patch f sampled on an n x n grid of each of its quads (the unit
 // square, or every quad of an n-gon patch's polygon, mapped to the patch's domain),
@@ -84,10 +87,14 @@ bool limit_patches_cross(const geom::SubdModelResult& sr, geom::Id a, geom::Id b
   const geom::Model& m = sr.model;
   std::set<geom::Id> va;
   for (const auto& l : m.faces[static_cast<std::size_t>(a)].loops)
-    for (const auto& u : l.uses) va.insert(m.edges[static_cast<std::size_t>(u.edge)].v0), va.insert(m.edges[static_cast<std::size_t>(u.edge)].v1);
+    for (const auto& u : l.uses)
+      va.insert(m.edges[static_cast<std::size_t>(u.edge)].v0),
+          va.insert(m.edges[static_cast<std::size_t>(u.edge)].v1);
   for (const auto& l : m.faces[static_cast<std::size_t>(b)].loops)
     for (const auto& u : l.uses)
-      if (va.count(m.edges[static_cast<std::size_t>(u.edge)].v0) || va.count(m.edges[static_cast<std::size_t>(u.edge)].v1)) return false;
+      if (va.count(m.edges[static_cast<std::size_t>(u.edge)].v0) ||
+          va.count(m.edges[static_cast<std::size_t>(u.edge)].v1))
+        return false;
   surface::SurfaceMesh d;
   dense_patch(sr, a, 64, d);
   dense_patch(sr, b, 64, d);
@@ -99,9 +106,11 @@ bool limit_patches_cross(const geom::SubdModelResult& sr, geom::Id a, geom::Id b
 
 // Runs tetgen -pYQ on the mesh written as .smesh; true when it exits 0 and writes
 // tetrahedra.
-bool tetgen_fills(const surface::SurfaceMesh& mesh, const geom::Model& m, const std::string& stem, std::string& why) {
+bool tetgen_fills(const surface::SurfaceMesh& mesh, const geom::Model& m, const std::string& stem,
+                  std::string& why) {
 #ifdef UVMESH_TETGEN
-  const auto dir = std::filesystem::temp_directory_path() / ("uvmesh_subd_" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("uvmesh_subd_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string base = (dir / stem).string();
   const io::WriteResult w = io::write_mesh(mesh, &m, base + ".smesh");
@@ -109,11 +118,15 @@ bool tetgen_fills(const surface::SurfaceMesh& mesh, const geom::Model& m, const 
     why = w.error;
     return false;
   }
-  const std::string cmd = std::string(UVMESH_TETGEN) + " -pYQ " + base + ".smesh > " + base + ".log 2>&1";
+  const std::string cmd =
+      std::string(UVMESH_TETGEN) + " -pYQ " + base + ".smesh > " + base + ".log 2>&1";
   const int rc = std::system(cmd.c_str());
-  const bool ok = rc == 0 && std::filesystem::exists(base + ".1.ele") && std::filesystem::file_size(base + ".1.ele") > 0;
-  if (!ok) why = "tetgen exit " + std::to_string(rc) + " (" + base + ".log)";
-  else std::filesystem::remove_all(dir);
+  const bool ok = rc == 0 && std::filesystem::exists(base + ".1.ele") &&
+                  std::filesystem::file_size(base + ".1.ele") > 0;
+  if (!ok)
+    why = "tetgen exit " + std::to_string(rc) + " (" + base + ".log)";
+  else
+    std::filesystem::remove_all(dir);
   return ok;
 #else
   (void)mesh, (void)m, (void)stem;
@@ -127,8 +140,9 @@ bool tetgen_fills(const surface::SurfaceMesh& mesh, const geom::Model& m, const 
 TEST_CASE("subd meshing: acceptance on every corpus cage", "[subd][corpus]") {
   // self: crossing triangle pairs within one shell; on_lim: those between patches whose
   // limit surfaces cross (limit_patches_cross, checked on catmark_car only).
-  std::printf("%-28s %7s %8s %5s %5s %4s %6s %5s %9s %9s %9s %6s %7s %6s %6s %s\n", "cage", "patches", "tris", "free",
-              "nonm", "self", "on_lim", "tet", "on_limit", "chordal", "tol", "Q<1.5", "Qmax", "creas", "corn", "seconds");
+  std::printf("%-28s %7s %8s %5s %5s %4s %6s %5s %9s %9s %9s %6s %7s %6s %6s %s\n", "cage",
+              "patches", "tris", "free", "nonm", "self", "on_lim", "tet", "on_limit", "chordal",
+              "tol", "Q<1.5", "Qmax", "creas", "corn", "seconds");
   for (const Case& c : kCases) {
     INFO(c.name);
     const geom::SubdModelResult sr = geom::read_subd(cage_path(c.name), {});
@@ -142,7 +156,8 @@ TEST_CASE("subd meshing: acceptance on every corpus cage", "[subd][corpus]") {
     o.threads = 2;
     const auto t0 = std::chrono::steady_clock::now();
     const surface::MeshResult r = surface::mesh_model(m, o);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (const auto& f : r.failed) UNSCOPED_INFO("face " << f.face << ": " << f.reason);
     CHECK(r.failed.empty());
     REQUIRE(!r.mesh.triangles.empty());
@@ -172,9 +187,11 @@ TEST_CASE("subd meshing: acceptance on every corpus cage", "[subd][corpus]") {
     if (c.limit_self_intersects) {
       // Every crossing lies between two patches whose limit surfaces cross.
       std::map<std::pair<geom::Id, geom::Id>, bool> real;
-      for (const auto& ab : crossing_patches) real[ab] = limit_patches_cross(sr, ab.first, ab.second);
+      for (const auto& ab : crossing_patches)
+        real[ab] = limit_patches_cross(sr, ab.first, ab.second);
       for (const auto& p : si_all.pairs)
-        if (m.faces[p.f0].shell == m.faces[p.f1].shell && p.f0 != p.f1) self_on_limit += real[std::minmax(p.f0, p.f1)];
+        if (m.faces[p.f0].shell == m.faces[p.f1].shell && p.f0 != p.f1)
+          self_on_limit += real[std::minmax(p.f0, p.f1)];
       CHECK(self_on_limit == self);
       CHECK(self > 0);  // the limit surface crosses itself, so does the mesh
     } else if (!nonman) {
@@ -195,13 +212,15 @@ TEST_CASE("subd meshing: acceptance on every corpus cage", "[subd][corpus]") {
       const geom::Surface& s = *m.faces[mesh.triangle_face[t]].surface;
       for (int k = 0; k < 3; ++k) {
         const geom::Vec2 uv = mesh.triangle_uv[t][k];
-        on_limit = std::max(on_limit, glm::length(s.point(uv.x, uv.y) - mesh.points[mesh.triangles[t][k]]));
+        on_limit = std::max(on_limit,
+                            glm::length(s.point(uv.x, uv.y) - mesh.points[mesh.triangles[t][k]]));
       }
     }
     CHECK(on_limit <= 1e-9 * D);
 
     const surface::ChordalReport ch = surface::measure_chordal(mesh, m, 2);
-    INFO("worst chordal sample: face " << ch.worst.face << " uv (" << ch.worst.uv.x << ", " << ch.worst.uv.y << ")");
+    INFO("worst chordal sample: face " << ch.worst.face << " uv (" << ch.worst.uv.x << ", "
+                                       << ch.worst.uv.y << ")");
     // The semi-sharp crease cubes were 1.37x and 1.13x over until the chordal repair
     // (edge midpoints split in the 1D stage, triangle centroids and interior edge
     // midpoints in the face mesher).
@@ -251,10 +270,11 @@ TEST_CASE("subd meshing: acceptance on every corpus cage", "[subd][corpus]") {
     // catmark_pole64 was 0.90 (CHECK_NOFAIL) until its patches at the valence-64 pole
     // were given the projected domain (geom subd_model.cpp, ProjectedSurface).
     CHECK(q.share_Q_lt_1_5 >= 0.95);
-    std::printf("%-28s %7zu %8zu %5zu %5zu %4zu %6zu %5s %9.2e %9.2e %9.2e %6.3f %7.2f %6d %6d %.2f\n", c.name.c_str(),
-                m.faces.size(), mesh.triangles.size(), topo.free_edges, topo.non_manifold_edges, self, self_on_limit,
-                tet.c_str(), on_limit / D, ch.max, o.size.chordal_tol, q.share_Q_lt_1_5, q.Q_max, creases_found,
-                corners_found, secs);
+    std::printf(
+        "%-28s %7zu %8zu %5zu %5zu %4zu %6zu %5s %9.2e %9.2e %9.2e %6.3f %7.2f %6d %6d %.2f\n",
+        c.name.c_str(), m.faces.size(), mesh.triangles.size(), topo.free_edges,
+        topo.non_manifold_edges, self, self_on_limit, tet.c_str(), on_limit / D, ch.max,
+        o.size.chordal_tol, q.share_Q_lt_1_5, q.Q_max, creases_found, corners_found, secs);
     std::fflush(stdout);
   }
 }

@@ -597,13 +597,16 @@ TEST_CASE("check3d: self-intersection: a closed torus is clean; a pushed vertex 
   CHECK(touches);
 }
 
-TEST_CASE("check3d: self-intersection: pairs where the model itself intersects (spindle torus vs pushed vertex)",
-          "[check3d][intersect]") {
+TEST_CASE(
+    "check3d: self-intersection: pairs where the model itself intersects (spindle torus vs pushed "
+    "vertex)",
+    "[check3d][intersect]") {
   // A ring torus meshed on its parametrization, one vertex pushed through the tube: the
   // mesh intersects itself, the surface does not; no pair is the model's.
   {
     auto m = uv_torus(2.0, 0.5, 120, 60);
-    const auto model = one_face_model(geom::make_torus(geom::Frame{}, 2.0, 0.5), geom::SurfaceKind::Torus);
+    const auto model =
+        one_face_model(geom::make_torus(geom::Frame{}, 2.0, 0.5), geom::SurfaceKind::Torus);
     m.points[0] = {2.0 - 0.75, 0.0, 0.0};
     const auto r = surface::find_self_intersections(m, 1000000, 1);
     REQUIRE(r.intersecting_pairs > 0);
@@ -615,7 +618,8 @@ TEST_CASE("check3d: self-intersection: pairs where the model itself intersects (
   // pairs whose pieces do not meet stay the mesher's.
   {
     auto m = uv_torus(0.5, 1.0, 80, 60);
-    const auto model = one_face_model(geom::make_torus(geom::Frame{}, 0.5, 1.0), geom::SurfaceKind::Torus);
+    const auto model =
+        one_face_model(geom::make_torus(geom::Frame{}, 0.5, 1.0), geom::SurfaceKind::Torus);
     const auto r = surface::find_self_intersections(m, 1000000, 1);
     REQUIRE(r.intersecting_pairs > 100);
     REQUIRE(r.pairs.size() == r.intersecting_pairs);
@@ -704,9 +708,15 @@ TEST_CASE("check3d: quality: slivers across a gap narrower than the proximity fl
   // With a floor of 0.02: the first (all points on model edges, width 0.01) spans a gap
   // narrower than the floor; the second has an interior point (dim 2); the third is wider
   // than the floor. Only the first is counted apart.
-  auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.01, 0},
-                      {5, 0, 0}, {6, 0, 0}, {5.5, 0.01, 0},
-                      {10, 0, 0}, {11, 0, 0}, {10.5, 0.05, 0}},
+  auto m = make_mesh({{0, 0, 0},
+                      {1, 0, 0},
+                      {0.5, 0.01, 0},
+                      {5, 0, 0},
+                      {6, 0, 0},
+                      {5.5, 0.01, 0},
+                      {10, 0, 0},
+                      {11, 0, 0},
+                      {10.5, 0.05, 0}},
                      {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
   for (auto& d : m.point_dim) d = 1;
   m.point_dim[5] = 2;
@@ -728,8 +738,7 @@ TEST_CASE("check3d: quality: slivers across a gap within the two edges' CAD tole
   // whose floors (0.03 + 0.03) exceed its width: a gap the CAD model does not resolve. The
   // second has all three points on edge 2 alone: no gap between two edges, counted bad
   // whatever edge 2's floor. Widths are reported.
-  auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.05, 0},
-                      {5, 0, 0}, {6, 0, 0}, {5.5, 0.05, 0}},
+  auto m = make_mesh({{0, 0, 0}, {1, 0, 0}, {0.5, 0.05, 0}, {5, 0, 0}, {6, 0, 0}, {5.5, 0.05, 0}},
                      {{0, 1, 2}, {3, 4, 5}});
   for (auto& d : m.point_dim) d = 1;
   m.point_entity = {0, 0, 1, 2, 2, 2};

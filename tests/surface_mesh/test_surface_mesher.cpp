@@ -3,9 +3,8 @@
 // (closed solids watertight, consistently oriented, no self-intersection), shape, unit
 // edges, chordal deviation against the exact surfaces, failure isolation, and identical
 // output for any thread count.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdlib>
 #include <map>
 #include <set>
@@ -20,7 +19,9 @@ using namespace uvmesh;
 
 namespace {
 
-std::string data(const std::string& rel) { return std::string(UVMESH_SHARED_DATA) + "/" + rel; }
+std::string data(const std::string& rel) {
+  return std::string(UVMESH_SHARED_DATA) + "/" + rel;
+}
 
 geom::Model load(const std::string& path) {
   io::ReadResult rr = io::read_cad(path);
@@ -64,17 +65,20 @@ void accept(const std::string& file, bool closed, const surface::MeshOptions* op
   if (closed) CHECK(t.free_edges == 0);
 
   const surface::IntersectionReport si = surface::find_self_intersections(r.mesh, 5, 1);
-  for (const auto& p : si.pairs) UNSCOPED_INFO("triangles " << p.t0 << " (face " << p.f0 << ") x " << p.t1 << " (face " << p.f1 << ")");
+  for (const auto& p : si.pairs)
+    UNSCOPED_INFO("triangles " << p.t0 << " (face " << p.f0 << ") x " << p.t1 << " (face " << p.f1
+                               << ")");
   CHECK(si.intersecting_pairs == 0);
 
   // Bad triangles across gaps of the CAD face narrower than the proximity floor, or than
   // the two edges' CAD tolerances, are the report's exceptions
   // (QualityReport::bad_in_narrow_gaps), as uvmesh mesh --report counts.
   const std::vector<double> edge_gap = surface::edge_gap_floors(m);
-  const surface::QualityReport q =
-      surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+  const surface::QualityReport q = surface::measure_quality(
+      r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
   CHECK(q.share_Q_lt_1_5 >= 0.95);
-  for (const auto& b : q.bad_list) UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
+  for (const auto& b : q.bad_list)
+    UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
   CHECK(q.bad_away_from_corners == 0);
 
   CHECK(r.unit_edge_share() >= 0.90);
@@ -88,7 +92,8 @@ void accept(const std::string& file, bool closed, const surface::MeshOptions* op
 
 // The report's per-solid topology: every solid of an assembly closed and manifold on its
 // own, although interface edges carry three faces in the whole mesh.
-void check_solids_closed(const surface::SurfaceMesh& mesh, const geom::Model& m, std::size_t solids) {
+void check_solids_closed(const surface::SurfaceMesh& mesh, const geom::Model& m,
+                         std::size_t solids) {
   io::CheckOptions co;
   co.self_intersections = false;
   co.threads = 1;
@@ -108,7 +113,9 @@ TEST_CASE("surface mesher: bundled bracket (planes, cylinders, fillets, holes)",
   accept(std::string(UVMESH_SOURCE_DIR) + "/samples/data/bracket.step", true);
 }
 
-TEST_CASE("surface mesher: tetrahedron", "[surface]") { accept(data("cad/axom_tet.step"), true); }
+TEST_CASE("surface mesher: tetrahedron", "[surface]") {
+  accept(data("cad/axom_tet.step"), true);
+}
 
 TEST_CASE("surface mesher: two cubes sharing a face (non-manifold interface)", "[surface]") {
   // The shared face is used by both solids: its edges carry three faces, so the check
@@ -133,8 +140,10 @@ TEST_CASE("surface mesher: two cubes sharing a face (non-manifold interface)", "
   check_solids_closed(r.mesh, m, 2);
 }
 
-TEST_CASE("check: a stray sheet crossing a closed solid is counted in the whole mesh, not in the solid's (nist_ctc_02)",
-          "[surface]") {
+TEST_CASE(
+    "check: a stray sheet crossing a closed solid is counted in the whole mesh, not in the solid's "
+    "(nist_ctc_02)",
+    "[surface]") {
   // nist_ctc_02 holds one closed solid and, in a second, open shell, one face (663) that
   // crosses the solid's face 339. The whole mesh must intersect there; the solid's own
   // triangles, which a volume mesher fills, must not.
@@ -168,7 +177,8 @@ TEST_CASE("surface mesher: seam with an inner loop touching it (gmsh_cyl_loop_se
   accept(data("cad/gmsh_cyl_loop_seam.brep"), false);
 }
 
-TEST_CASE("surface mesher: periodic faces (gmsh_periodic_u, gmsh_torus1, occt_spheres)", "[surface]") {
+TEST_CASE("surface mesher: periodic faces (gmsh_periodic_u, gmsh_torus1, occt_spheres)",
+          "[surface]") {
   accept(data("cad/gmsh_periodic_u.step"), true);
   accept(data("cad/gmsh_torus1.brep"), true);
   accept(data("cad/occt_spheres.stp"), true);
@@ -182,7 +192,10 @@ TEST_CASE("surface mesher: poles (gmsh_full_sphere, occt_cone_catia)", "[surface
   // open problem, see the issue 4 closing note.
 }
 
-TEST_CASE("surface mesher: an embedded (INTERNAL) crack edge is a constraint inside its face (gmsh_crack)", "[surface]") {
+TEST_CASE(
+    "surface mesher: an embedded (INTERNAL) crack edge is a constraint inside its face "
+    "(gmsh_crack)",
+    "[surface]") {
   // A cube with a half-disc crack face whose straight edge is INTERNAL to the cube's
   // side face: that face used to fail ("a boundary node lies on another edge's (u,v)
   // segment") because the edge was closed into a loop.
@@ -217,14 +230,16 @@ TEST_CASE("surface mesher: an embedded (INTERNAL) crack edge is a constraint ins
   CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);
 }
 
-TEST_CASE("surface mesher: sliver faces and small features next to long edges (nist_ctc_01)", "[surface]") {
+TEST_CASE("surface mesher: sliver faces and small features next to long edges (nist_ctc_01)",
+          "[surface]") {
   // Before edges were capped by the sizes of the other edges of their faces (gradation
   // across a face, proximity), a 65-unit edge at hmax faced a face interior refined to
   // 3.4 by small features, and thin faces were spanned by single slivers: Q up to 1614.
   accept(data("cad/nist_ctc_01.stp"), true);
 }
 
-TEST_CASE("surface mesher: a thin cylindrical band, anisotropic in (u,v) as a whole (nist_ftc_11)", "[surface]") {
+TEST_CASE("surface mesher: a thin cylindrical band, anisotropic in (u,v) as a whole (nist_ftc_11)",
+          "[surface]") {
   // Face 2 is a band 1.5 tall around a radius of ~9 (u an angle, v a length): mesher2d's
   // first triangulation of its boundary was fans of edges along the boundary that no
   // field point survived (metric Q 590, 26 triangles with Q >= 3). Fixed by scaling v by
@@ -232,19 +247,23 @@ TEST_CASE("surface mesher: a thin cylindrical band, anisotropic in (u,v) as a wh
   accept(data("cad/nist_ftc_11.stp"), true);
 }
 
-TEST_CASE("surface mesher: chordal repair of triangles the size grid missed (gmsh_problem_sphere)", "[surface]") {
+TEST_CASE("surface mesher: chordal repair of triangles the size grid missed (gmsh_problem_sphere)",
+          "[surface]") {
   // The curvature sizes left a deviation of 1.10 tolerance; triangles whose centroid is
   // beyond 0.9 tolerance are now split at the foot of the centroid.
   accept(data("cad/gmsh_problem_sphere.brep"), true);
 }
 
-TEST_CASE("surface mesher: a sub-hmin edge next to a coarse one grades through their vertex (gmsh_block)", "[surface]") {
+TEST_CASE(
+    "surface mesher: a sub-hmin edge next to a coarse one grades through their vertex (gmsh_block)",
+    "[surface]") {
   // An edge refined below hmin by proximity met a coarse edge with a 50x jump in segment
   // length: 25 triangles with Q >= 3 (caps) in the faces around it.
   accept(data("cad/gmsh_block.stp"), true);
 }
 
-TEST_CASE("surface mesher: no proximity refinement inside the CAD tolerances (gmsh_crankshaft)", "[surface]") {
+TEST_CASE("surface mesher: no proximity refinement inside the CAD tolerances (gmsh_crankshaft)",
+          "[surface]") {
   // Edges whose pcurves end 0.009 mm from their 3D vertex (hmin 0.013 mm) were refined by
   // proximity to 0.0002 mm segments there; the surface's image of those nodes and the
   // curve's own nodes made needles of Q up to 58 (23 triangles of Q >= 3 away from
@@ -253,14 +272,17 @@ TEST_CASE("surface mesher: no proximity refinement inside the CAD tolerances (gm
   accept(data("cad/gmsh_crankshaft.stp"), true);
 }
 
-TEST_CASE("surface mesher: a face narrower than hmin but wider than its tolerances is resolved (gmsh_slender_surface)",
-          "[surface]") {
+TEST_CASE(
+    "surface mesher: a face narrower than hmin but wider than its tolerances is resolved "
+    "(gmsh_slender_surface)",
+    "[surface]") {
   // Width 0.00038 against hmin 0.0099: with the tolerance floor at twice the sum of the
   // edges' tolerances, proximity saw no gap and the face got 121 slivers (Q<1.5: 1.7%).
   accept(data("cad/gmsh_slender_surface.brep"), false);
 }
 
-TEST_CASE("surface mesher: a (u,v) metric varying inside one grid cell (occt_terrain)", "[surface]") {
+TEST_CASE("surface mesher: a (u,v) metric varying inside one grid cell (occt_terrain)",
+          "[surface]") {
   // One B-spline face whose (u,v) speed varies within a cell of the 64 x 64 metric grid:
   // interpolated, the metric gave 82% unit edges and 1.8x the chordal tolerance. The grid
   // now splits cells where it disagrees with the exact metric, and the chordal repair may
@@ -268,7 +290,8 @@ TEST_CASE("surface mesher: a (u,v) metric varying inside one grid cell (occt_ter
   accept(data("cad/occt_terrain.brep"), false);
 }
 
-TEST_CASE("surface mesher: caps wedged between sub-hmin features are collapsed (occt_crankarm)", "[surface]") {
+TEST_CASE("surface mesher: caps wedged between sub-hmin features are collapsed (occt_crankarm)",
+          "[surface]") {
   // Two caps of Q 3.2 next to a corner, on a boundary split below hmin by proximity: no
   // position of their free vertex helped, merging it into a neighbour does (improve3d's
   // collapse). The model also has 96 slivers across the last micrometres of tangential
@@ -276,8 +299,10 @@ TEST_CASE("surface mesher: caps wedged between sub-hmin features are collapsed (
   accept(data("cad/occt_crankarm.brep"), true);
 }
 
-TEST_CASE("surface mesher: a needle between interior points next to a corner is collapsed (occt_mesh_artifact)",
-          "[surface]") {
+TEST_CASE(
+    "surface mesher: a needle between interior points next to a corner is collapsed "
+    "(occt_mesh_artifact)",
+    "[surface]") {
   // Face 5 kept one triangle of Q 3.2 with three interior points at 0.13 hmin from a model
   // vertex. (The model's acceptance as a whole: the test on its collapsed strips below.)
   const geom::Model m = load(data("cad/occt_mesh_artifact.brep"));
@@ -285,15 +310,18 @@ TEST_CASE("surface mesher: a needle between interior points next to a corner is 
   const surface::MeshResult r = surface::mesh_model(m, o);
   REQUIRE(r.failed.empty());
   const std::vector<double> edge_gap = surface::edge_gap_floors(m);
-  const surface::QualityReport q =
-      surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
-  for (const auto& b : q.bad_list) UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
+  const surface::QualityReport q = surface::measure_quality(
+      r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+  for (const auto& b : q.bad_list)
+    UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
   CHECK(q.bad_away_from_corners == 0);
   CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);
 }
 
-TEST_CASE("surface mesher: strips narrower than the proximity floor are collapsed onto one curve (occt_mesh_artifact)",
-          "[surface]") {
+TEST_CASE(
+    "surface mesher: strips narrower than the proximity floor are collapsed onto one curve "
+    "(occt_mesh_artifact)",
+    "[surface]") {
   // Faces 2 and 6 are planar steps bounded by two edges between the same two vertices,
   // 7.9e-6 and at most 9.7e-6 wide (0.029 and 0.00039 long), against a proximity floor
   // of 5.1e-5 (hmin / 100, D = 5.13): meshed, they were 20 slivers of Q up to 580, and
@@ -317,7 +345,8 @@ TEST_CASE("surface mesher: strips narrower than the proximity floor are collapse
       collapsed.insert(c.face);
     }
     CHECK(collapsed == std::set<geom::Id>{2, 6});
-    for (geom::Id f : {2, 6}) CHECK(std::count(r.mesh.triangle_face.begin(), r.mesh.triangle_face.end(), f) == 0);
+    for (geom::Id f : {2, 6})
+      CHECK(std::count(r.mesh.triangle_face.begin(), r.mesh.triangle_face.end(), f) == 0);
     check_solids_closed(r.mesh, m, 1);
   }
   // With hmin = D / 1e5 the proximity floor (5.1e-7) is below both widths, but the strips
@@ -346,9 +375,10 @@ TEST_CASE("surface mesher: --hmax D/40 --angle 30 on the bracket", "[surface]") 
   accept(std::string(UVMESH_SOURCE_DIR) + "/samples/data/bracket.step", true, &o);
 }
 
-TEST_CASE("surface mesher: a cone cut in halves keeps its halves apart at the apex with --angle 30 alone "
-          "(occt_cone_catia)",
-          "[surface]") {
+TEST_CASE(
+    "surface mesher: a cone cut in halves keeps its halves apart at the apex with --angle 30 alone "
+    "(occt_cone_catia)",
+    "[surface]") {
   // With no chordal tolerance the sizes at the apex are hmin's, and both halves of the
   // cone had the same chord through the axis -- once even the same triangle (apex, n1,
   // n2) -- each the other turned over: a non-manifold edge and coincident triangles. The
@@ -365,7 +395,8 @@ TEST_CASE("surface mesher: a cone cut in halves keeps its halves apart at the ap
   }
 }
 
-TEST_CASE("surface mesher: a face that cannot be meshed is reported, the rest is meshed", "[surface]") {
+TEST_CASE("surface mesher: a face that cannot be meshed is reported, the rest is meshed",
+          "[surface]") {
   geom::Model m = load(data("cad/axom_tet.step"));
   m.faces[2].surface.reset();  // no surface: this face cannot be meshed
   const surface::MeshResult r = surface::mesh_model(m, defaults(m));
@@ -378,7 +409,9 @@ TEST_CASE("surface mesher: a face that cannot be meshed is reported, the rest is
   CHECK(surface::check_topology(r.mesh).free_edges > 0);
 }
 
-TEST_CASE("surface mesher: a doubly closed face whose wire is not chained in (u,v) (dagmc_ball_reactor)", "[surface]") {
+TEST_CASE(
+    "surface mesher: a doubly closed face whose wire is not chained in (u,v) (dagmc_ball_reactor)",
+    "[surface]") {
   // Face 0 is the revolution of a closed profile: one vertex, two seam edges. The wire
   // explorer returned its four uses as bottom, top, left, right; the (u,v) boundary built
   // in that order jumped across the domain and crossed itself, and the face failed.
@@ -392,8 +425,10 @@ TEST_CASE("surface mesher: a doubly closed face whose wire is not chained in (u,
   check_solids_closed(r.mesh, m, 8);
 }
 
-TEST_CASE("surface mesher: faces inside the tolerance tube of their own boundary are degenerate, not meshed (occt_caxif_k1)",
-          "[surface]") {
+TEST_CASE(
+    "surface mesher: faces inside the tolerance tube of their own boundary are degenerate, not "
+    "meshed (occt_caxif_k1)",
+    "[surface]") {
   // occt_caxif_k1 has eight faces bounded by one B-spline edge of 2.56 mm (tolerance
   // 0.046 mm) whose ends are 1.64 mm apart: an open wire around 0.0109 mm^2, a mean width
   // of 0.0085 mm. Two more are bounded by two edges going there and back (area 1.5e-21).
@@ -425,16 +460,19 @@ TEST_CASE("surface mesher: faces inside the tolerance tube of their own boundary
       CHECK(std::count(r.mesh.triangle_face.begin(), r.mesh.triangle_face.end(), f) == 0);
     check_solids_closed(r.mesh, m, 5);
     const std::vector<double> edge_gap = surface::edge_gap_floors(m);
-    const surface::QualityReport q =
-        surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+    const surface::QualityReport q = surface::measure_quality(
+        r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
     CHECK(q.bad_away_from_corners == 0);
-    if (o.size.chordal_tol > 0) CHECK(surface::measure_chordal(r.mesh, m, 1).max <= o.size.chordal_tol);
+    if (o.size.chordal_tol > 0)
+      CHECK(surface::measure_chordal(r.mesh, m, 1).max <= o.size.chordal_tol);
   }
 }
 
-TEST_CASE("surface mesher: a vertex closing open edges by its tolerance alone is split, the solids do not fold "
-          "(occt_caxif_k1)",
-          "[surface]") {
+TEST_CASE(
+    "surface mesher: a vertex closing open edges by its tolerance alone is split, the solids do "
+    "not fold "
+    "(occt_caxif_k1)",
+    "[surface]") {
   // occt_caxif_k1's edges 142, 144, 204 and 206 are 1 mm curves whose two ends the file
   // gives one vertex (EDGE_CURVE #768: VERTEX_POINT #574 at both ends); the STEP reader
   // sets that vertex's tolerance to the 1 mm gap. Meshed so, each edge was closed at its
@@ -450,12 +488,14 @@ TEST_CASE("surface mesher: a vertex closing open edges by its tolerance alone is
   std::set<geom::Id> from;
   for (const auto& s : m.vertex_splits) from.insert(s.from);
   CHECK(from == std::set<geom::Id>{86, 87, 126, 127});
-  for (geom::Id e : {142, 144, 204, 206}) CHECK(m.edges[static_cast<std::size_t>(e)].v0 != m.edges[static_cast<std::size_t>(e)].v1);
+  for (geom::Id e : {142, 144, 204, 206})
+    CHECK(m.edges[static_cast<std::size_t>(e)].v0 != m.edges[static_cast<std::size_t>(e)].v1);
   const surface::MeshOptions fine = d40_angle30(m);
   for (const surface::MeshOptions& o : {defaults(m), fine}) {
     const surface::MeshResult r = surface::mesh_model(m, o);
     CHECK(r.failed.empty());
-    for (const std::string& w : r.warnings) CHECK(w.find("the mesh closes it at the vertex") == std::string::npos);
+    for (const std::string& w : r.warnings)
+      CHECK(w.find("the mesh closes it at the vertex") == std::string::npos);
     io::CheckOptions co;
     co.threads = 1;
     const io::CheckData d = io::check_mesh(r.mesh, &m, co);
@@ -491,9 +531,10 @@ TEST_CASE("surface mesher: a vertex closing open edges by its tolerance alone is
     CHECK(w.find("the mesh closes it at the vertex") == std::string::npos);
 }
 
-TEST_CASE("surface mesher: boundary segments shorter than the proximity floor do not grade the interior "
-          "(occt_caxif_b1)",
-          "[surface]") {
+TEST_CASE(
+    "surface mesher: boundary segments shorter than the proximity floor do not grade the interior "
+    "(occt_caxif_b1)",
+    "[surface]") {
   // occt_caxif_b1 (D = 30561 mm, proximity floor 0.31 mm) has CAD edges of 0.00015 and
   // 0.0028 mm (145, 156) at corners of faces 37 and 42. The 1D sizes stop at the floor, so
   // the edges beside them start with 0.3 mm segments; the 2D mesher's boundary gradation
@@ -507,16 +548,19 @@ TEST_CASE("surface mesher: boundary segments shorter than the proximity floor do
   for (const surface::MeshOptions& o : {defaults(m), fine}) {
     const surface::MeshResult r = surface::mesh_model(m, o);
     CHECK(r.failed.empty());
-    const surface::QualityReport q =
-        surface::measure_quality(r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
-    for (const auto& b : q.bad_list) UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
+    const surface::QualityReport q = surface::measure_quality(
+        r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+    for (const auto& b : q.bad_list)
+      UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
     CHECK(q.bad_away_from_corners == 0);
     CHECK(q.share_Q_lt_1_5 >= 0.98);
   }
 }
 
-TEST_CASE("surface mesher: faces whose pcurves cross are triangulated from their boundary when that is valid",
-          "[surface]") {
+TEST_CASE(
+    "surface mesher: faces whose pcurves cross are triangulated from their boundary when that is "
+    "valid",
+    "[surface]") {
   // occt_caxif_b1: slivers between two copies of one curve whose pcurves cross. Face 63
   // gets a valid strip from its boundary nodes. Faces 58, 71, 86, 97, 251 and 273 are
   // two-edge strips 0.019-0.039 wide, below the proximity floor (0.31): they are
@@ -538,7 +582,8 @@ TEST_CASE("surface mesher: faces whose pcurves cross are triangulated from their
   }
 }
 
-TEST_CASE("surface mesher: a face beyond the per-face time limit is reported, the run finishes", "[surface]") {
+TEST_CASE("surface mesher: a face beyond the per-face time limit is reported, the run finishes",
+          "[surface]") {
   const geom::Model m = load(data("cad/gmsh_cube_fillet.stp"));
   surface::MeshOptions o = defaults(m);
   o.face_time_limit = 1e-9;  // every face that needs field points exceeds it
@@ -598,26 +643,31 @@ TEST_CASE("dev: mesh one model from UVMESH_DEV_MODEL", "[.dev]") {
   }
   const auto r = surface::mesh_model(m, o);
   const auto t = surface::check_topology(r.mesh);
-  WARN("faces " << m.faces.size() << " failed " << r.failed.size() << " points " << r.mesh.points.size() << " tris "
-                << r.mesh.triangles.size() << " free " << t.free_edges << " nonman " << t.non_manifold_edges
-                << " inconsistent " << t.inconsistent_edges);
+  WARN("faces " << m.faces.size() << " failed " << r.failed.size() << " points "
+                << r.mesh.points.size() << " tris " << r.mesh.triangles.size() << " free "
+                << t.free_edges << " nonman " << t.non_manifold_edges << " inconsistent "
+                << t.inconsistent_edges);
   for (const auto& s : r.stages) WARN(s.name << " " << s.seconds);
   for (const auto& f : r.failed) WARN("face " << f.face << ": " << f.reason);
   for (const auto& e : t.non_manifold_list) {
     std::string s;
     for (auto tt : e.triangles) {
       const auto& T = r.mesh.triangles[static_cast<std::size_t>(tt)];
-      s += " [" + std::to_string(T[0]) + "," + std::to_string(T[1]) + "," + std::to_string(T[2]) + "]";
+      s += " [" + std::to_string(T[0]) + "," + std::to_string(T[1]) + "," + std::to_string(T[2]) +
+           "]";
     }
     WARN("non-manifold " << e.a << "(dim " << int(r.mesh.point_dim[e.a]) << ") " << e.b << "(dim "
                          << int(r.mesh.point_dim[e.b]) << ")" << s);
   }
   const auto q = surface::measure_quality(r.mesh, 5);
-  WARN("Q<1.5 " << q.share_Q_lt_1_5 << " Qmax " << q.Q_max << " bad away " << q.bad_away_from_corners
-                << " unit " << r.unit_edge_share());
-  for (const auto& b : q.bad_list) WARN("bad Q " << b.Q << " face " << b.face << " kind "
-                                                 << geom::to_string(m.faces[b.face].kind));
-  for (auto v : t.unreferenced_list) WARN("unreferenced " << v << " dim " << int(r.mesh.point_dim[v]));
+  WARN("Q<1.5 " << q.share_Q_lt_1_5 << " Qmax " << q.Q_max << " bad away "
+                << q.bad_away_from_corners << " unit " << r.unit_edge_share());
+  for (const auto& b : q.bad_list)
+    WARN("bad Q " << b.Q << " face " << b.face << " kind "
+                  << geom::to_string(m.faces[b.face].kind));
+  for (auto v : t.unreferenced_list)
+    WARN("unreferenced " << v << " dim " << int(r.mesh.point_dim[v]));
   for (const auto& f : r.faces)
-    WARN("face " << f.face << " nb " << f.boundary_nodes << " tris " << f.triangles << " s " << f.seconds);
+    WARN("face " << f.face << " nb " << f.boundary_nodes << " tris " << f.triangles << " s "
+                 << f.seconds);
 }

@@ -40,8 +40,8 @@ std::shared_ptr<Surface> make_sphere(const Frame& f, double r);
 std::shared_ptr<Surface> make_torus(const Frame& f, double major_r, double minor_r);
 /// Tensor-product B-spline patch of degree (p, q) with clamped uniform knots on [0,1]^2.
 /// `ctrl` is row-major: ctrl[i * nv + j] is control point (i, j), i along u.
-std::shared_ptr<Surface> make_bspline_patch(const std::vector<Vec3>& ctrl, int nu, int nv, int p = 3,
-                                            int q = 3);
+std::shared_ptr<Surface> make_bspline_patch(const std::vector<Vec3>& ctrl, int nu, int nv,
+                                            int p = 3, int q = 3);
 
 /// C(t) = P + t D on [range].
 std::shared_ptr<Curve> make_line(const Vec3& p, const Vec3& d, const Interval& range);

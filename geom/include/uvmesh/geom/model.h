@@ -55,7 +55,7 @@ struct Edge {
 /// One use of an edge by a face's loop.
 struct EdgeUse {
   Id edge = kNone;
-  bool reversed = false;  ///< traversed from v1 to v0 in the loop
+  bool reversed = false;                 ///< traversed from v1 to v0 in the loop
   std::shared_ptr<const Curve2> pcurve;  ///< (u,v) curve of the edge on this face
   Interval range;                        ///< pcurve parameter range (same as the edge's)
   bool seam = false;  ///< the edge is used twice by this face (both sides of a seam)
@@ -119,12 +119,12 @@ struct ModelStats {
   int solids = 0, shells = 0, faces = 0, edges = 0, vertices = 0;
   std::map<std::string, int> surface_kinds;  ///< MANIFEST vocabulary -> face count
   std::map<std::string, int> curve_kinds;    ///< edges by 3D curve kind (degenerate excluded)
-  int seam_edges = 0;         ///< edges used twice by one face
+  int seam_edges = 0;                        ///< edges used twice by one face
   int faces_with_seams = 0;
   int degenerate_edges = 0;
-  int free_edges = 0;         ///< non-degenerate, non-seam edges used by exactly one face
-  int non_manifold_edges = 0; ///< edges used by three or more distinct faces
-  int short_edges = 0;        ///< non-degenerate edges shorter than short_edge_rel * diagonal
+  int free_edges = 0;          ///< non-degenerate, non-seam edges used by exactly one face
+  int non_manifold_edges = 0;  ///< edges used by three or more distinct faces
+  int short_edges = 0;         ///< non-degenerate edges shorter than short_edge_rel * diagonal
   double short_edge_threshold = 0.0;
   double min_edge_length = 0.0;
   int invalid_faces = 0;

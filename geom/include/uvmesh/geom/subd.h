@@ -21,8 +21,9 @@
 // base edge from its first to its second vertex, split at 1/2 where a sub-face patch uses
 // half of it; t in [0,1] from an edge midpoint to the face centre on the spokes between
 // sub-face patches). Base vertices, the limit points of the middles of n-gon sides, and
-// the centres of n-gons made of sub-face patches are model vertices. So creases and sharp corners, which lie on base edges and
-// vertices, are model edges and vertices and become mesh edges and vertices.
+// the centres of n-gons made of sub-face patches are model vertices. So creases and sharp corners,
+// which lie on base edges and vertices, are model edges and vertices and become mesh edges and
+// vertices.
 //
 // Faces without a limit surface (holes, and faces on a boundary with boundary
 // interpolation "none") are not in the Model (SubdModelResult::dropped_faces). A
@@ -82,8 +83,8 @@ struct SubdCage {
   std::vector<Crease> creases;
   std::vector<Corner> corners;
   std::vector<Hole> holes;
-  int interpolate_boundary = -1;  ///< `t interpolateboundary`: 0, 1, 2; -1 when absent
-  bool chaikin = false;           ///< `t creasemethod ... chaikin`
+  int interpolate_boundary = -1;      ///< `t interpolateboundary`: 0, 1, 2; -1 when absent
+  bool chaikin = false;               ///< `t creasemethod ... chaikin`
   std::vector<std::string> warnings;  ///< tags and statements that were ignored
 };
 
@@ -122,8 +123,8 @@ struct SubdPlane {
 /// faces; the quadrangulated sub-face `subface` of an n-gon otherwise).
 struct SubdPatch {
   Id base_face = kNone;
-  int subface = -1;  ///< -1: the whole base face
-  int face_size = 0; ///< vertices of the base face
+  int subface = -1;   ///< -1: the whole base face
+  int face_size = 0;  ///< vertices of the base face
   Vec2 origin{0.0, 0.0};
   double scale = 1.0;
   /// A whole Catmull-Clark n-gon (n != 4) as one patch: its (u,v) domain is the polygon
@@ -159,12 +160,12 @@ struct SubdModelResult {
   bool ok = false;
   std::string error;
   Model model;
-  std::vector<SubdPatch> patches;  ///< indexed by model face id
-  std::vector<Id> cage_vertex;     ///< model vertex of each cage vertex (kNone: in no patch)
+  std::vector<SubdPatch> patches;        ///< indexed by model face id
+  std::vector<Id> cage_vertex;           ///< model vertex of each cage vertex (kNone: in no patch)
   SubdScheme scheme = SubdScheme::Auto;  ///< the scheme used (never Auto)
   SubdBoundary boundary = SubdBoundary::FromFile;  ///< the interpolation used (never FromFile)
-  std::vector<Id> dropped_faces;   ///< base faces without a limit surface (holes, boundary none)
-  int non_manifold_edges = 0;      ///< base edges with three or more faces (kept, sharp)
+  std::vector<Id> dropped_faces;  ///< base faces without a limit surface (holes, boundary none)
+  int non_manifold_edges = 0;     ///< base edges with three or more faces (kept, sharp)
   std::vector<std::string> warnings;
 };
 

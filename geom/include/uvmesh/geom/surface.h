@@ -21,7 +21,17 @@ namespace uvmesh::geom {
 /// vocabulary (planar, cylinder, cone, sphere, torus, bspline, bezier, revolution,
 /// extrusion, offset, other).
 enum class SurfaceKind {
-  Plane, Cylinder, Cone, Sphere, Torus, Bezier, BSpline, Revolution, Extrusion, Offset, Other
+  Plane,
+  Cylinder,
+  Cone,
+  Sphere,
+  Torus,
+  Bezier,
+  BSpline,
+  Revolution,
+  Extrusion,
+  Offset,
+  Other
 };
 std::string_view to_string(SurfaceKind k);
 

@@ -6,11 +6,10 @@
 #pragma once
 
 #include <cstdint>
-#include <limits>
-
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
 
 namespace uvmesh::geom {
 

@@ -79,9 +79,9 @@ struct ReadOptions {
 
 /// One healing step and what it changed.
 struct HealStep {
-  std::string name;     ///< "shapefix", "sewing", "conform"
-  bool applied = false; ///< the result was kept
-  std::string detail;   ///< human-readable: counts before -> after, tolerance, reason
+  std::string name;      ///< "shapefix", "sewing", "conform"
+  bool applied = false;  ///< the result was kept
+  std::string detail;    ///< human-readable: counts before -> after, tolerance, reason
   int faces_before = 0, faces_after = 0;
   int edges_before = 0, edges_after = 0;
   int solids_before = 0, solids_after = 0;
@@ -94,12 +94,12 @@ struct ReadReport {
   std::string file_units;  ///< canonical unit the file declares (io/units.h); "" for BREP, or
                            ///< when the file declares none or one this reader does not know
   std::string file_units_declared;  ///< the file's own spelling ("INCH", "centimetre", IGES flag)
-  double mm_per_unit = 0.0;  ///< millimetres per unit of the coordinates; 0 = unitless (BREP)
+  double mm_per_unit = 0.0;      ///< millimetres per unit of the coordinates; 0 = unitless (BREP)
   bool units_converted = false;  ///< coordinates were converted from the file's unit
   std::vector<HealStep> healing;
   std::vector<std::string> warnings;
   bool validity_checked = false;  ///< geom::Face::valid comes from BRepCheck
-  double read_seconds = 0.0;   ///< parse + transfer
+  double read_seconds = 0.0;      ///< parse + transfer
   double heal_seconds = 0.0;
   double build_seconds = 0.0;  ///< geom::Model construction (incl. validity checks)
 };

@@ -34,10 +34,10 @@ struct PrescanResult {
   std::string error;  ///< without the file name
   CadFormat content = CadFormat::Unknown;
   int step_entities = 0;
-  int step_brep_faces = 0;        ///< ADVANCED_FACE / FACE_SURFACE instances
-  int step_tessellated_faces = 0; ///< (COMPLEX_)TRIANGULATED_FACE / TESSELLATED_* instances
-  int malformed_statements = 0;   ///< STEP statements that are not '#id = ...' (skipped)
-  int dangling_references = 0;    ///< references to entities defined nowhere
+  int step_brep_faces = 0;         ///< ADVANCED_FACE / FACE_SURFACE instances
+  int step_tessellated_faces = 0;  ///< (COMPLEX_)TRIANGULATED_FACE / TESSELLATED_* instances
+  int malformed_statements = 0;    ///< STEP statements that are not '#id = ...' (skipped)
+  int dangling_references = 0;     ///< references to entities defined nowhere
   std::vector<std::string> warnings;
 };
 

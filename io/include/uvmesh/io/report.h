@@ -81,7 +81,8 @@ struct CheckData {
   /// faces of closed solids (the same solid or two of them), and how many of those the
   /// model shares. The other pairs involve a face outside every closed solid: a sheet or
   /// an open shell of the file.
-  std::optional<std::size_t> intersections_in_closed_solids, intersections_in_closed_solids_in_model;
+  std::optional<std::size_t> intersections_in_closed_solids,
+      intersections_in_closed_solids_in_model;
   surface::QualityReport quality;
   double median_edge = 0;                  ///< 3D length of the median unique edge
   surface::EdgeLengthReport edge_lengths;  ///< lengths / median_edge (bins: check3d.h)

@@ -66,32 +66,43 @@ struct Pslg {
   std::vector<Vec2> points;
   std::vector<int> point_markers;  // optional: empty, or one per point
   std::vector<Segment> segments;
-  std::vector<Vec2> holes;         // seeds: the connected component containing them is removed
-  std::vector<Region> regions;     // seeds: the component containing them gets the attribute
+  std::vector<Vec2> holes;      // seeds: the connected component containing them is removed
+  std::vector<Region> regions;  // seeds: the component containing them gets the attribute
 };
 
 // Size specification: the control space of §7.5.1.
 struct SizeSpec {
   enum class Kind { Uniform, Scalar, Metric };
   Kind kind = Kind::Uniform;
-  double h = 0;                                     // Uniform; <= 0 means "from the boundary"
-  std::function<double(double, double)> size;       // Scalar: h(x, y) > 0
-  std::function<Metric2(double, double)> metric;    // Metric: M(x, y) SPD
+  double h = 0;                                   // Uniform; <= 0 means "from the boundary"
+  std::function<double(double, double)> size;     // Scalar: h(x, y) > 0
+  std::function<Metric2(double, double)> metric;  // Metric: M(x, y) SPD
 
-  static SizeSpec uniform(double h) { SizeSpec s; s.kind = Kind::Uniform; s.h = h; return s; }
+  static SizeSpec uniform(double h) {
+    SizeSpec s;
+    s.kind = Kind::Uniform;
+    s.h = h;
+    return s;
+  }
   static SizeSpec scalar(std::function<double(double, double)> f) {
-    SizeSpec s; s.kind = Kind::Scalar; s.size = std::move(f); return s;
+    SizeSpec s;
+    s.kind = Kind::Scalar;
+    s.size = std::move(f);
+    return s;
   }
   static SizeSpec aniso(std::function<Metric2(double, double)> f) {
-    SizeSpec s; s.kind = Kind::Metric; s.metric = std::move(f); return s;
+    SizeSpec s;
+    s.kind = Kind::Metric;
+    s.metric = std::move(f);
+    return s;
   }
 };
 
 struct Options {
-  bool refine = true;                   // false: constrained Delaunay triangulation only
-  bool split_segments = true;           // discretize input segments at unit length first;
-                                        // false keeps boundary vertices exactly (surface stage)
-  bool split_crossing_segments = false; // false: crossing segments are an error naming both
+  bool refine = true;                    // false: constrained Delaunay triangulation only
+  bool split_segments = true;            // discretize input segments at unit length first;
+                                         // false keeps boundary vertices exactly (surface stage)
+  bool split_crossing_segments = false;  // false: crossing segments are an error naming both
   bool triangulate_hull_without_segments = true;  // no segments: mesh the convex hull
   // Domain by orientation (CAD loops: the outer loop counter-clockwise, holes clockwise):
   // a component is kept only when it lies to the left of most of its bounding segments
@@ -112,14 +123,14 @@ struct Options {
   // a subdivision crease cube went 1.3x over the chordal tolerance with collapses).
   bool collapse_short_edges = true;
   int optimize_passes = 8;
-  bool anisotropic_kernel = true;       // §7.6.1 cavity criterion under M(P) when kind==Metric
-  double max_anisotropy = 1e6;          // cap on the ratio of metric eigenvalues' square roots
+  bool anisotropic_kernel = true;           // §7.6.1 cavity criterion under M(P) when kind==Metric
+  double max_anisotropy = 1e6;              // cap on the ratio of metric eigenvalues' square roots
   std::int64_t max_vertices = 200'000'000;  // refinement stops (status Incomplete) beyond this
   // Wall-clock seconds for refinement and optimization (0: no limit). Beyond it the mesher
   // stops with status TimeLimit, so that a caller meshing many domains (CAD faces) can
   // report the one that would run away instead of never finishing.
   double time_limit = 0;
-  bool check = false;                   // run the checker after each stage (debug builds: on)
+  bool check = false;  // run the checker after each stage (debug builds: on)
   // Compute Stats::quality (a pass over the output mesh; with a varying field it samples
   // the field at every vertex and edge midpoint). Off for callers that do not read it
   // (the surface stage; a benchmark that measures the mesh itself): Stats::quality then
@@ -137,31 +148,31 @@ struct BoundaryEdge {
 };
 
 struct Mesh {
-  std::vector<Vec2> vertices;               // the mesher's order: find input point i at
-                                            // input_vertex[i] (no segments, holes, regions or
-                                            // refinement: the kernel's spatial insertion order)
-  std::vector<int> vertex_markers;          // input markers; boundary splits inherit the
-                                            // segment marker; interior vertices 0
+  std::vector<Vec2> vertices;       // the mesher's order: find input point i at
+                                    // input_vertex[i] (no segments, holes, regions or
+                                    // refinement: the kernel's spatial insertion order)
+  std::vector<int> vertex_markers;  // input markers; boundary splits inherit the
+                                    // segment marker; interior vertices 0
   std::vector<std::array<VertId, 3>> triangles;  // counter-clockwise
-  std::vector<int> triangle_region;          // connected component index (0..)
-  std::vector<double> triangle_attribute;    // regional attribute (0 when no seed)
-  std::vector<BoundaryEdge> boundary_edges;  // every constrained edge left in the mesh
-  std::vector<VertId> input_vertex;          // input point i -> output vertex (kNone if
-                                             // it lies outside the domain)
-  std::vector<Metric2> vertex_metric;        // the metric each vertex was placed for (the
-                                             // field, scaled by Options::boundary_gradation);
-                                             // empty when not refined
+  std::vector<int> triangle_region;              // connected component index (0..)
+  std::vector<double> triangle_attribute;        // regional attribute (0 when no seed)
+  std::vector<BoundaryEdge> boundary_edges;      // every constrained edge left in the mesh
+  std::vector<VertId> input_vertex;              // input point i -> output vertex (kNone if
+                                                 // it lies outside the domain)
+  std::vector<Metric2> vertex_metric;            // the metric each vertex was placed for (the
+                                                 // field, scaled by Options::boundary_gradation);
+                                                 // empty when not refined
 };
 
 struct Quality {
   // Q_K = alpha * h_max / rho_K, alpha = sqrt(3)/6 (eq. 7.6); q_K = 1 / Q_K.
-  double q_max = 0, q_mean = 0;              // Q_M (eq. 7.7) and the mean Q_K
+  double q_max = 0, q_mean = 0;  // Q_M (eq. 7.7) and the mean Q_K
   double share_q_below_1_5 = 0, share_q_below_2 = 0;
   double min_angle_deg = 0, max_angle_deg = 0;
   double metric_q_max = 0, metric_q_mean = 0;
   double metric_share_q_below_1_5 = 0, metric_share_q_below_2 = 0;
   double metric_min_angle_deg = 0, metric_max_angle_deg = 0;
-  double unit_edge_share = 0;                // metric length in [1/sqrt2, sqrt2]
+  double unit_edge_share = 0;  // metric length in [1/sqrt2, sqrt2]
   double edge_len_min = 0, edge_len_max = 0, edge_len_mean = 0;  // in the metric
   std::int64_t edges = 0;
 };
@@ -185,17 +196,17 @@ struct Stats {
 
 enum class StatusCode {
   Ok,
-  InvalidInput,       // NaN/Inf, bad index, empty PSLG, degenerate segment
-  CrossingSegments,   // two segments cross (and Options::split_crossing_segments is false)
-  OpenBoundary,       // a hole or the exterior leaks into every triangle: nothing left
-  Incomplete,         // refinement stopped early (max_vertices); the mesh is valid
-  InternalError,      // the checker found an invalid triangulation (a bug: please report)
-  TimeLimit,          // Options::time_limit was reached during refinement or optimization
+  InvalidInput,      // NaN/Inf, bad index, empty PSLG, degenerate segment
+  CrossingSegments,  // two segments cross (and Options::split_crossing_segments is false)
+  OpenBoundary,      // a hole or the exterior leaks into every triangle: nothing left
+  Incomplete,        // refinement stopped early (max_vertices); the mesh is valid
+  InternalError,     // the checker found an invalid triangulation (a bug: please report)
+  TimeLimit,         // Options::time_limit was reached during refinement or optimization
 };
 
 struct Status {
   StatusCode code = StatusCode::Ok;
-  std::string message;           // names the entities: "segment 12 (3-7) crosses segment 40 ..."
+  std::string message;  // names the entities: "segment 12 (3-7) crosses segment 40 ..."
   std::vector<std::int64_t> entities;  // ids of the entities named in message
   std::vector<std::string> warnings;   // duplicates merged etc.; the mesh is still valid
 };
@@ -206,7 +217,9 @@ struct Result {
   Status status;
   bool ok() const { return status.code == StatusCode::Ok; }
   // The mesh is valid (possibly incomplete) and can be written.
-  bool usable() const { return status.code == StatusCode::Ok || status.code == StatusCode::Incomplete; }
+  bool usable() const {
+    return status.code == StatusCode::Ok || status.code == StatusCode::Incomplete;
+  }
 };
 
 Result mesh(const Pslg& in, const SizeSpec& size, const Options& opt = {});

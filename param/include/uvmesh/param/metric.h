@@ -15,11 +15,10 @@
 #include <array>
 #include <cmath>
 #include <functional>
-#include <limits>
-
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <limits>
 
 namespace uvmesh::param {
 
@@ -107,8 +106,8 @@ class Metric {
 
 template <int N>
 struct Eigen {
-  std::array<double, N> values;      ///< ascending
-  std::array<VecN<N>, N> vectors;    ///< orthonormal, vectors[i] for values[i]
+  std::array<double, N> values;    ///< ascending
+  std::array<VecN<N>, N> vectors;  ///< orthonormal, vectors[i] for values[i]
 };
 
 using Metric2 = Metric<2>;
@@ -135,7 +134,8 @@ Eigen<N> jacobi(std::array<std::array<double, N>, N> a) {
       for (int q = p + 1; q < N; ++q) {
         if (a[p][q] == 0.0) continue;
         const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double t =
+            (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
         const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
         for (int k = 0; k < N; ++k) {  // A <- A J (columns p, q)
           const double akp = a[k][p], akq = a[k][q];
@@ -173,9 +173,11 @@ Eigen<N> Metric<N>::eigen() const {
 
 template <int N>
 double Metric<N>::determinant() const {
-  if constexpr (N == 2) return m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  if constexpr (N == 2)
+    return m[0][0] * m[1][1] - m[0][1] * m[1][0];
   else
-    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
@@ -226,8 +228,8 @@ Metric<N> Metric<N>::clamped(double hmin, double hmax) const {
 
 /// Intersection by simultaneous reduction: a metric whose unit ball lies inside the unit
 /// balls of both A and B (so it asks for the finer size in every direction), and is the
-/// largest such ball among those sharing their axes with the common basis. With C = A^{-1/2} B A^{-1/2} = Q D Q^T,
-/// P = A^{-1/2} Q reduces both (P^T A P = I, P^T B P = D); the result is
+/// largest such ball among those sharing their axes with the common basis. With C = A^{-1/2} B
+/// A^{-1/2} = Q D Q^T, P = A^{-1/2} Q reduces both (P^T A P = I, P^T B P = D); the result is
 /// A^{1/2} Q diag(max(1, d_i)) Q^T A^{1/2}. Lengths in it are max(|e|_A, |e|_B) along the
 /// common eigen-directions and >= both everywhere.
 template <int N>
@@ -241,7 +243,8 @@ Metric<N> intersect(const Metric<N>& a, const Metric<N>& b) {
     sq[i] = std::pow(l, 0.5);
     isq[i] = std::pow(l, -0.5);
   }
-  const Metric<N> ah = Metric<N>::from_eigen(ea.vectors, sq), aih = Metric<N>::from_eigen(ea.vectors, isq);
+  const Metric<N> ah = Metric<N>::from_eigen(ea.vectors, sq),
+                  aih = Metric<N>::from_eigen(ea.vectors, isq);
   Metric<N> c;
   // c = aih * b * aih
   for (int i = 0; i < N; ++i)
@@ -277,14 +280,16 @@ Metric<N> interpolate(const Metric<N>& a, const Metric<N>& b, double t) {
 
 /// Interpolation in a triangle with barycentric weights w (sum 1, each >= 0).
 template <int N>
-Metric<N> interpolate(const Metric<N>& a, const Metric<N>& b, const Metric<N>& c, const std::array<double, 3>& w) {
+Metric<N> interpolate(const Metric<N>& a, const Metric<N>& b, const Metric<N>& c,
+                      const std::array<double, 3>& w) {
   return (a.power(-0.5) * w[0] + b.power(-0.5) * w[1] + c.power(-0.5) * w[2]).power(-2.0);
 }
 
 /// Length of the segment A + t e, t in [0,1], in a varying metric M(t) (eq. 7.10):
 /// integral of sqrt(e^T M(t) e) by adaptive Simpson quadrature to relative tolerance tol.
 template <int N>
-double edge_length(const std::function<Metric<N>(double)>& metric_at, const VecN<N>& e, double tol = 1e-6) {
+double edge_length(const std::function<Metric<N>(double)>& metric_at, const VecN<N>& e,
+                   double tol = 1e-6) {
   auto f = [&](double t) { return metric_at(t).length(e); };
   std::function<double(double, double, double, double, double, double, int)> rec =
       [&](double a, double b, double fa, double fm, double fb, double whole, int depth) -> double {

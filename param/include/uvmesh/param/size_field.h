@@ -36,9 +36,9 @@ struct PointSize {
 struct SizeSpec {
   double hmin = 0.0;                                      ///< smallest size anywhere
   double hmax = std::numeric_limits<double>::infinity();  ///< largest size anywhere
-  double chordal_tol = 0.0;  ///< eps (length); 0 = off
-  double angle_tol = 0.0;    ///< radians of arc per element; 0 = off
-  bool isotropic = false;    ///< curvature size from the smaller radius in every direction
+  double chordal_tol = 0.0;                               ///< eps (length); 0 = off
+  double angle_tol = 0.0;                                 ///< radians of arc per element; 0 = off
+  bool isotropic = false;  ///< curvature size from the smaller radius in every direction
   /// Cap of h_max / h_min for the 3D metric (flat directions of a thin cylinder would
   /// otherwise ask for hmax along the axis and a tiny size around it).
   double max_anisotropy = 100.0;
@@ -65,9 +65,11 @@ Metric3 curvature_metric(const Curvature& c, const SizeSpec& spec);
 
 /// Metric of the spec at the surface point sigma(u,v) of face `face` (kNone: no face
 /// size): curvature metric intersected with the face size and the point sizes.
-Metric3 surface_metric(const geom::Surface& s, double u, double v, const SizeSpec& spec, geom::Id face = geom::kNone);
+Metric3 surface_metric(const geom::Surface& s, double u, double v, const SizeSpec& spec,
+                       geom::Id face = geom::kNone);
 /// The same at an evaluated point e = s.eval(u, v) (its second derivatives are needed).
-Metric3 surface_metric(const geom::SurfacePoint& e, const SizeSpec& spec, geom::Id face = geom::kNone);
+Metric3 surface_metric(const geom::SurfacePoint& e, const SizeSpec& spec,
+                       geom::Id face = geom::kNone);
 
 /// Induced (u,v) metric M_uv = J^T M3 J, J = [sigma_u sigma_v]: the (u,v) step d has the
 /// metric length of the 3D step J d to first order. At a pole J is singular (sigma_u = 0)
@@ -92,8 +94,8 @@ int gradate(std::vector<Metric3>& metrics, const std::vector<geom::Vec3>& points
 /// gradated over the grid graph, interpolated bilinearly (size interpolation).
 class FaceSizeField {
  public:
-  FaceSizeField(const geom::Surface& s, const geom::Box2& box, const SizeSpec& spec, geom::Id face = geom::kNone,
-                int n = 17);
+  FaceSizeField(const geom::Surface& s, const geom::Box2& box, const SizeSpec& spec,
+                geom::Id face = geom::kNone, int n = 17);
   Metric3 metric3(double u, double v) const;
   /// Induced metric at (u,v): J from the surface (Surface::eval_first), M3 from the
   /// background.

@@ -149,7 +149,8 @@ bool triangles_intersect(const SurfaceMesh& m, TriId t0, TriId t1);
 /// surfaces cross while the finer pieces under them pass each other (a spindle torus: 74%
 /// of its pairs found with k = 4, 85% with k = 8). Returns the indices into `pairs`.
 std::vector<std::size_t> pairs_intersecting_in_model(const SurfaceMesh& m, const geom::Model& model,
-                                                     const std::vector<IntersectingPair>& pairs, int k = 4);
+                                                     const std::vector<IntersectingPair>& pairs,
+                                                     int k = 4);
 
 // ---------------------------------------------------------------------------------------
 // 3. Shape quality (3D): Q = alpha h_max / rho, alpha = sqrt(3)/6; q = 1/Q

@@ -32,8 +32,8 @@ namespace uvmesh::surface {
 
 struct MeshOptions {
   param::SizeSpec size;
-  int threads = 0;            ///< 0: all cores
-  bool optimize3d = true;     ///< swaps and smoothing judged by 3D quality
+  int threads = 0;         ///< 0: all cores
+  bool optimize3d = true;  ///< swaps and smoothing judged by 3D quality
   int optimize3d_passes = 4;
   /// The chordal tolerance the user asked for is divided by this before it sizes
   /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
@@ -67,12 +67,12 @@ param::SizeSpec default_size(const geom::Model& m);
 double proximity_floor(const param::SizeSpec& spec, double diagonal);
 
 /// How far apart two model edges of a face must be for proximity to see a gap between
-/// them: kGapToleranceFactor (1: the two tolerance tubes touch) times the sum of their gap_tolerance()s. Closer than that,
-/// the CAD model itself does not know on which side of the other either curve lies:
-/// OCC's tolerances say a curve may be anywhere within its tolerance of where it is
-/// drawn. Refining such a "gap" meshed the model's noise (gmsh_crankshaft: pcurves ending
-/// 0.009 mm from their 3D vertex, edges graded down to 0.0002 mm segments there, and
-/// needles of Q 58 between the curve's nodes and the surface's image of the pcurve).
+/// them: kGapToleranceFactor (1: the two tolerance tubes touch) times the sum of their
+/// gap_tolerance()s. Closer than that, the CAD model itself does not know on which side of the
+/// other either curve lies: OCC's tolerances say a curve may be anywhere within its tolerance of
+/// where it is drawn. Refining such a "gap" meshed the model's noise (gmsh_crankshaft: pcurves
+/// ending 0.009 mm from their 3D vertex, edges graded down to 0.0002 mm segments there, and needles
+/// of Q 58 between the curve's nodes and the surface's image of the pcurve).
 inline constexpr double kGapToleranceFactor = 1.0;
 /// An edge's tolerance for that purpose: the largest of its own and its end vertices'.
 double gap_tolerance(const geom::Model& m, geom::Id edge);
