@@ -15,8 +15,8 @@ PKGS=(
   catch2 nlohmann-json3-dev libcli11-dev libfmt-dev
   # comparison benchmark and cross-checks (reference tools, not product deps)
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev gmsh python3-gmsh tetgen python3-meshio freefem++
-  # fuzzing and sanitizers
-  clang libclang-rt-14-dev
+  # fuzzing and sanitizers; clang-format checks the sources (tests/code)
+  clang libclang-rt-14-dev clang-format
   # misc test helpers
   time
   # browser test of the .glb (issue 6): headless Chromium + three.js served from node_modules
