@@ -15,7 +15,7 @@
 # FUZZ_NICE=N runs the fuzzer under `nice -n N` (shared machines).
 # The last line printed is the run's CPU time (user+sys of the fuzzer process), the
 # measure of how long a target really ran on a loaded machine.
-# A finding becomes a named test in tests/robustness/test_robust_regressions.cpp.
+# A finding becomes a named "robust: ..." test beside the component it hit (tests/<area>).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=${UVMESH_FUZZ_BUILD:-$here/build-fuzz}

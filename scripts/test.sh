@@ -23,7 +23,7 @@ cmake --build build -j"$jobs"
 # corpus tests and the determinism test are left to the Release run: under ASan they
 # would take most of CI's time. Only these targets are built; ctest runs what was built (catch2's
 # discovery registers an unbuilt executable as <name>_NOT_BUILT).
-san_targets=(uvmesh uvmesh2d test_mesher2d test_cli2d test_robust_regressions test_prescan test_io_units
+san_targets=(uvmesh uvmesh2d test_mesher2d test_cli2d test_prescan test_io_units
              test_mesh_formats test_param)
 grep -q "UVMESH_HAVE_OSD:INTERNAL=ON" build/CMakeCache.txt && san_targets+=(test_geom_subd)
 san=$here/build-san

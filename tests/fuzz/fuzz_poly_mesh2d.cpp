@@ -65,7 +65,7 @@ void print_poly(const m2d::Pslg& p, std::FILE* out) {
 // True when a point lies strictly inside a segment (the coordinates are small integers,
 // so the cross product is exact). Overlapping collinear segments are a special case. The
 // mesher returns Ok on such inputs while m2d::check rejects the mesh (finding 2,
-// tests/robustness/data/fuzz_mesher2d_overlapping_segments.poly); the check is skipped for
+// tests/mesher2d/data/fuzz_mesher2d_overlapping_segments.poly); the check is skipped for
 // them so that the run goes on to find other things.
 bool point_inside_a_segment(const m2d::Pslg& p) {
   for (const m2d::Pslg::Segment& s : p.segments) {
@@ -94,7 +94,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (m2d::Vec2& v : p.points) v = {snap(v.x, 1.0), snap(v.y, 1.0)};
   // Coincident points are merged here, segments renumbered: with duplicates m2d::check
   // reports edges "not on any input segment" (finding 1,
-  // tests/robustness/data/fuzz_mesher2d_duplicate_points.poly), and every other input
+  // tests/mesher2d/data/fuzz_mesher2d_duplicate_points.poly), and every other input
   // would hit that one again.
   {
     std::map<std::pair<double, double>, m2d::VertId> first;

@@ -1,15 +1,12 @@
-// Named regression tests for the bugs found by the bad-input scripts and the fuzzers
-// (tests/fuzz): each case is the smallest input that showed the bug, and what the reader
-// must answer now. Names start with "robust:" so that `ctest -R robust` selects them.
+// Regression tests of the OBJ cage reader and the OpenSubdiv back end for bugs found by the
+// bad-input scripts and the fuzzers (tests/fuzz): each case is the smallest input that
+// showed the bug, and what the reader must answer now. Names start with "robust:" so that
+// `ctest -R robust` selects them with the other regression tests.
 #include <catch2/catch.hpp>
 #include <sstream>
 #include <string>
 
 #include "uvmesh/geom/subd.h"
-#include "uvmesh/io/mesh_reader.h"
-#include "uvmesh/mesher2d/check.h"
-#include "uvmesh/mesher2d/mesher2d.h"
-#include "uvmesh2d/poly.h"
 
 namespace {
 
@@ -18,38 +15,8 @@ uvmesh::geom::SubdCageResult parse_cage(const std::string& text) {
   return uvmesh::geom::parse_obj_cage(in, "cage.obj");
 }
 
-uvmesh::cli2d::PolyRead parse_poly(const std::string& text) {
-  std::istringstream in(text);
-  return uvmesh::cli2d::parse_poly(in, "domain.poly");
-}
-
 std::string data_file(const std::string& name) {
-  return std::string(UVMESH_SOURCE_DIR) + "/tests/robustness/data/" + name;
-}
-
-// A mesher2d finding of fuzz_poly_mesh2d: the snapped PSLG it met, meshed as it did
-// (with and without refinement). m2d::mesh answered Ok and m2d::check rejected the mesh.
-void mesher2d_finding(const std::string& file, double h) {
-  const uvmesh::cli2d::PolyRead pr = uvmesh::cli2d::read_poly(data_file(file));
-  INFO(file);
-  REQUIRE(pr.ok());
-  uvmesh::m2d::Options opt;
-  opt.optimize = false;
-  opt.max_vertices = 4000;
-  for (const bool refine : {true, false}) {
-    INFO("refine " << refine);
-    opt.refine = refine;
-    const uvmesh::m2d::Result r =
-        uvmesh::m2d::mesh(pr.poly.pslg, uvmesh::m2d::SizeSpec::uniform(h), opt);
-    INFO(r.status.message);
-    REQUIRE(r.usable());
-    uvmesh::m2d::CheckOptions co;
-    co.seeds = false;
-    co.delaunay = !refine;
-    const uvmesh::m2d::CheckReport rep = uvmesh::m2d::check(r.mesh, pr.poly.pslg, co);
-    INFO("checker: " << (rep.ok() ? std::string("ok") : rep.errors.front()));
-    CHECK(rep.ok());
-  }
+  return std::string(UVMESH_SOURCE_DIR) + "/tests/geom/data/" + name;
 }
 
 const std::string kTet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n";
@@ -87,37 +54,6 @@ TEST_CASE("robust: an empty OBJ cage says so instead of 'line 0: no faces'", "[r
   const auto c = parse_cage("# only a comment\n");
   REQUIRE_FALSE(c.ok);
   CHECK(c.error == "cage.obj:1: no faces");
-}
-
-TEST_CASE("robust: binary bytes in a .poly field are escaped in the one-line message",
-          "[robust][poly]") {
-  // Raw bytes (newlines, escape sequences) went to the terminal inside the message.
-  const auto r = parse_poly("\x01\x1b[2J\xff\n");
-  REQUIRE_FALSE(r.ok());
-  const std::string msg = r.error->str();
-  CHECK(msg == "domain.poly:1: number of nodes: '\\x01\\x1b[2J\\xff' is not an integer");
-  CHECK(msg.find('\n') == std::string::npos);
-}
-
-// The mesh was right; the checker was not. Segment 3 (2,1)-(0,1) runs through (1,1); its
-// piece (2,1)-(1,1) lies between a hole (the seed at (1.5, 0)) and the exterior (the wedge
-// above it is open to the right), so the checker's walk from (2,1) stopped there, accepted
-// the segment as leaving the domain, and never marked the piece (1,1)-(0,1) beyond the gap,
-// which it then called a constrained edge on no segment. The checker now accepts an
-// unmarked constrained edge that lies on some input segment.
-TEST_CASE("robust: mesher2d with duplicate points and degenerate segments (fuzz finding 1)",
-          "[robust][mesher2d]") {
-  mesher2d_finding("fuzz_mesher2d_duplicate_points.poly", 0.0);
-}
-
-// A mesher bug: segment 1 (0,-4)-(8,4), split at node 3 (4,0), gave the piece (4,0)-(8,4)
-// that segment 3 already is. Both records of that edge stayed live; boundary
-// discretization split it twice, the second time with points rounded off the first
-// chain. Overlapping pieces are now merged at enforcement (one record per edge, as
-// Triangle keeps one subsegment).
-TEST_CASE("robust: mesher2d with a node inside a segment, overlapping segments (fuzz finding 2)",
-          "[robust][mesher2d]") {
-  mesher2d_finding("fuzz_mesher2d_overlapping_segments.poly", 0.37);
 }
 
 // fuzz_obj_cage finding: OpenSubdiv 3.5 (Debian's libosdCPU) reads out of bounds in
@@ -229,67 +165,4 @@ TEST_CASE(
     REQUIRE(r.ok);
     CHECK(uvmesh::geom::model_from_cage(r.cage, o).ok);
   }
-}
-
-TEST_CASE(
-    "robust: a PLY face_id beyond int's range is an error, not undefined behaviour (fuzz_mesh_ply)",
-    "[robust][io]") {
-  // The double was cast to int unchecked (UBSan: "2.00001e+24 is outside the range of
-  // representable values of type 'int'").
-  const std::string head =
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty "
-      "double z\n"
-      "element face 1\nproperty list uchar int vertex_indices\nproperty double "
-      "face_id\nend_header\n"
-      "0 0 0\n1 0 0\n0 1 0\n";
-  for (const char* id : {"2e24", "-3", "1.5", "nan"}) {
-    INFO(id);
-    const auto r = uvmesh::io::read_mesh_data(head + "3 0 1 2 " + id + "\n",
-                                              uvmesh::io::MeshFormat::Ply, "f.ply");
-    CHECK_FALSE(r.ok);
-    CHECK_THAT(r.error, Catch::StartsWith("f.ply: line 14: "));
-  }
-  const auto ok =
-      uvmesh::io::read_mesh_data(head + "3 0 1 2 7\n", uvmesh::io::MeshFormat::Ply, "f.ply");
-  REQUIRE(ok.ok);
-  CHECK(ok.mesh.triangle_face == std::vector<uvmesh::geom::Id>{7});
-}
-
-TEST_CASE(
-    "robust: a PLY vertex index beyond long long's range is reported without a cast "
-    "(fuzz_mesh_ply)",
-    "[robust][io]") {
-  // The message cast the double index to long long (UBSan: "8.88889e+19 is outside the
-  // range of representable values of type 'long long'").
-  const std::string ply =
-      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty "
-      "double z\n"
-      "element face 1\nproperty list uchar double vertex_indices\nend_header\n"
-      "0 0 0\n1 0 0\n0 1 0\n3 0 1 8.88889e19\n";
-  const auto r = uvmesh::io::read_mesh_data(ply, uvmesh::io::MeshFormat::Ply, "f.ply");
-  CHECK_FALSE(r.ok);
-  CHECK(r.error == "f.ply: line 13: vertex index 8.88889e+19 out of range");
-}
-
-TEST_CASE(
-    "robust: a PLY element without properties is skipped, not looped over (fuzz_mesh_ply timeout)",
-    "[robust][io]") {
-  // "element x 1144441892" with no properties: the reader looped a billion times reading
-  // nothing (a 10 s libFuzzer timeout). Such an element holds no data; a vertex or face
-  // element without properties is an error (it pushed one point per entry).
-  const std::string tail =
-      "element vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
-      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
-      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
-  const auto r = uvmesh::io::read_mesh_data("ply\nformat ascii 1.0\nelement x 2147483647\n" + tail,
-                                            uvmesh::io::MeshFormat::Ply, "f.ply");
-  INFO(r.error);
-  REQUIRE(r.ok);
-  CHECK(r.mesh.points.size() == 3);
-  CHECK(r.mesh.triangles.size() == 1);
-  const auto v = uvmesh::io::read_mesh_data(
-      "ply\nformat ascii 1.0\nelement vertex 2147483647\nelement face 0\nend_header\n",
-      uvmesh::io::MeshFormat::Ply, "f.ply");
-  CHECK_FALSE(v.ok);
-  CHECK(v.error == "f.ply: line 6: element 'vertex' has 2147483647 entries but no properties");
 }
