@@ -31,7 +31,7 @@ TEST_CASE("measures: Q_K is 1 for the equilateral and alpha h_max / rho otherwis
         Approx(ms::shape_Q(r.ab, r.bc, r.ca, r.area2)).epsilon(1e-14));
 }
 
-TEST_CASE("measures: Q_K grows without bound as the triangle flattens; q_K of a flat one is 0",
+TEST_CASE("measures: Q_K grows without bound as the triangle flattens, q_K of a flat one is 0",
           "[measures]") {
   double last = 1.0;
   for (double y : {0.5, 0.1, 1e-3, 1e-6, 1e-9}) {
