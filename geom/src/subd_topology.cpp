@@ -38,6 +38,58 @@ std::string line_ref(const SubdCage& c, int line) {
   return c.source + ":" + std::to_string(line) + ": ";
 }
 
+namespace {
+
+// A sharp edge touching a face that folds onto another face around one of its corners
+// is rejected before OpenSubdiv sees it. Faces f and g "fold" at vertex v when g holds
+// both edges of f at v: the manifold subset of f at v is then an interior vertex of
+// valence 2, OpenSubdiv 3.5's Bfr assembles f's irregular patch from a map of the
+// mesh indices (its control faces overlap), and with a sharp edge around any corner of
+// f its crease list gets an index that is not in that map, so Vtr::Level::findEdge
+// reads out of bounds (SEGV, also in the Release CLI). The OBJ cage fuzzer found it in
+// two forms, now regression tests: v has only those two faces, or v also has a third
+// face, a second fan, so a test of v's global valence misses it. The refusal is
+// conservative: any crease with an end point on such a face is refused, while only some
+// of them crash.
+std::string check_creases_on_folds(const SubdCage& c, const Far::TopologyLevel& lvl) {
+  for (int f = 0; f < lvl.GetNumFaces(); ++f) {
+    const auto fv = lvl.GetFaceVertices(f);
+    const auto fe = lvl.GetFaceEdges(f);
+    const int n = fv.size();
+    int fold_v = -1, fold_g = -1;
+    for (int i = 0; i < n && fold_v < 0; ++i) {
+      const int ep = fe[(i + n - 1) % n], en = fe[i];
+      if (ep == en) continue;
+      for (int g : lvl.GetEdgeFaces(ep)) {
+        if (g == f) continue;
+        const auto gf = lvl.GetEdgeFaces(en);
+        if (std::find(gf.begin(), gf.end(), g) != gf.end()) {
+          fold_v = fv[i];
+          fold_g = g;
+          break;
+        }
+      }
+    }
+    if (fold_v < 0) continue;
+    for (const auto& k : c.creases) {
+      if (!(k.sharpness > 0)) continue;
+      if (std::find(fv.begin(), fv.end(), k.a) == fv.end() &&
+          std::find(fv.begin(), fv.end(), k.b) == fv.end())
+        continue;
+      return line_ref(c, k.line) + "crease on edge " + std::to_string(k.a) + "-" +
+             std::to_string(k.b) + " touches face " + std::to_string(f) +
+             ", which folds onto face " + std::to_string(fold_g) + " at vertex " +
+             std::to_string(fold_v) +
+             " (the two faces share both its edges: an interior vertex of valence 2 on their "
+             "side),"
+             " which OpenSubdiv 3.5 cannot evaluate with creases";
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
 // Tag indices are checked here (not in the parser) because OBJ may define vertices
 // after the tags that name them.
 std::string check_tags(const SubdCage& c, const Far::TopologyLevel& lvl) {
@@ -51,51 +103,8 @@ std::string check_tags(const SubdCage& c, const Far::TopologyLevel& lvl) {
              std::to_string(k.b) + " which share no edge";
     if (!(k.sharpness >= 0)) return line_ref(c, k.line) + "negative crease sharpness";
   }
-  // A sharp edge touching a face that folds onto another face around one of its corners
-  // is rejected before OpenSubdiv sees it. Faces f and g "fold" at vertex v when g holds
-  // both edges of f at v: the manifold subset of f at v is then an interior vertex of
-  // valence 2, OpenSubdiv 3.5's Bfr assembles f's irregular patch from a map of the
-  // mesh indices (its control faces overlap), and with a sharp edge around any corner of
-  // f its crease list gets an index that is not in that map, so Vtr::Level::findEdge
-  // reads out of bounds (SEGV, also in the Release CLI). The OBJ cage fuzzer found it in
-  // two forms, now regression tests: v has only those two faces, or v also has a third
-  // face, a second fan, so a test of v's global valence misses it. The refusal is conservative: any
-  // crease with an end point on such a face is refused, while only some of them crash.
-  if (!c.creases.empty()) {
-    for (int f = 0; f < lvl.GetNumFaces(); ++f) {
-      const auto fv = lvl.GetFaceVertices(f);
-      const auto fe = lvl.GetFaceEdges(f);
-      const int n = fv.size();
-      int fold_v = -1, fold_g = -1;
-      for (int i = 0; i < n && fold_v < 0; ++i) {
-        const int ep = fe[(i + n - 1) % n], en = fe[i];
-        if (ep == en) continue;
-        for (int g : lvl.GetEdgeFaces(ep)) {
-          if (g == f) continue;
-          const auto gf = lvl.GetEdgeFaces(en);
-          if (std::find(gf.begin(), gf.end(), g) != gf.end()) {
-            fold_v = fv[i];
-            fold_g = g;
-            break;
-          }
-        }
-      }
-      if (fold_v < 0) continue;
-      for (const auto& k : c.creases) {
-        if (!(k.sharpness > 0)) continue;
-        if (std::find(fv.begin(), fv.end(), k.a) == fv.end() &&
-            std::find(fv.begin(), fv.end(), k.b) == fv.end())
-          continue;
-        return line_ref(c, k.line) + "crease on edge " + std::to_string(k.a) + "-" +
-               std::to_string(k.b) + " touches face " + std::to_string(f) +
-               ", which folds onto face " + std::to_string(fold_g) + " at vertex " +
-               std::to_string(fold_v) +
-               " (the two faces share both its edges: an interior vertex of valence 2 on their "
-               "side),"
-               " which OpenSubdiv 3.5 cannot evaluate with creases";
-      }
-    }
-  }
+  if (!c.creases.empty())
+    if (std::string e = check_creases_on_folds(c, lvl); !e.empty()) return e;
   for (const auto& k : c.corners) {
     if (k.v >= nv)
       return line_ref(c, k.line) + "corner names vertex " + std::to_string(k.v) +

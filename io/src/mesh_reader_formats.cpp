@@ -377,14 +377,10 @@ double ply_value(PlyType ty, Text* t, Bytes* b) {
   return 0;
 }
 
-}  // namespace
-
-void read_ply(const std::string& data, MeshReadResult& r) {
-  SurfaceMesh& m = r.mesh;
-  Text t(data.data(), data.data() + data.size());
-  if (t.rest_of_line() != "ply") fail("line 1: not a PLY file (no 'ply' magic)");
+// The PLY header after the magic line, up to end_header: the format and the elements
+// with their properties.
+std::string read_ply_header(Text& t, std::vector<PlyElement>& elements) {
   std::string format;
-  std::vector<PlyElement> elements;
   while (true) {
     if (t.pos() >= t.end()) fail(t.where() + ": file ends inside the header (truncated?)");
     const int ln = t.line();
@@ -422,6 +418,17 @@ void read_ply(const std::string& data, MeshReadResult& r) {
       fail(where + ": unknown PLY header keyword '" + std::string(kw.substr(0, 40)) + "'");
     }
   }
+  return format;
+}
+
+}  // namespace
+
+void read_ply(const std::string& data, MeshReadResult& r) {
+  SurfaceMesh& m = r.mesh;
+  Text t(data.data(), data.data() + data.size());
+  if (t.rest_of_line() != "ply") fail("line 1: not a PLY file (no 'ply' magic)");
+  std::vector<PlyElement> elements;
+  const std::string format = read_ply_header(t, elements);
   if (format.empty()) fail(t.where() + ": the header has no format line");
   const bool ascii = format == "ascii";
   r.binary = !ascii;

@@ -177,6 +177,100 @@ class MshIn {
   Bytes* b_;
 };
 
+// $Entities: counted (r.entities), otherwise skipped; the nodes carry their entity.
+void read_msh41_entities(MshIn& in, MeshReadResult& r) {
+  in.begin_section();
+  std::int64_t n[4];
+  for (auto& k : n) k = in.count("an entity count");
+  for (int d = 0; d < 4; ++d) {
+    r.entities[static_cast<std::size_t>(d)] = static_cast<std::size_t>(n[d]);
+    for (std::int64_t e = 0; e < n[d]; ++e) {
+      in.i("an entity tag");
+      for (int k = 0; k < (d == 0 ? 3 : 6); ++k) in.d("an entity bounding-box coordinate");
+      const std::int64_t nphys = in.count("the number of physical tags");
+      for (std::int64_t k = 0; k < nphys; ++k) in.i("a physical tag");
+      if (d > 0) {
+        const std::int64_t nb = in.count("the number of bounding entities");
+        for (std::int64_t k = 0; k < nb; ++k) in.i("a bounding entity tag");
+      }
+    }
+  }
+  in.end_section("$EndEntities");
+}
+
+// $Nodes: blocks of node tags then coordinates, classified by the block's entity.
+void read_msh41_nodes(MshIn& in, NodeMap& nodes, SurfaceMesh& m) {
+  in.begin_section();
+  const std::int64_t blocks = in.count("the number of node blocks");
+  const std::int64_t total = in.count("the number of nodes");
+  in.z("the smallest node tag");
+  in.z("the largest node tag");
+  nodes.reserve(bounded(total));
+  m.points.reserve(bounded(total));
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    const std::int64_t dim = in.i("a node block dimension");
+    const std::int64_t tag = in.i("a node block entity tag");
+    const std::int64_t parametric = in.i("the parametric flag");
+    const std::int64_t n = in.count("the number of nodes in the block");
+    if (dim < 0 || dim > 3) fail(in.where() + ": node block of dimension " + std::to_string(dim));
+    if (static_cast<std::int64_t>(m.points.size()) + n > total)
+      fail(in.where() + ": the node blocks hold more nodes than the " + std::to_string(total) +
+           " announced");
+    const std::size_t first = m.points.size();
+    for (std::int64_t k = 0; k < n; ++k) {
+      const std::int64_t nt = in.z("a node tag");
+      nodes.add(nt, static_cast<NodeId>(first + static_cast<std::size_t>(k)), in.where());
+    }
+    for (std::int64_t k = 0; k < n; ++k) {
+      const double x = in.d("x"), y = in.d("y"), z = in.d("z");
+      if (parametric)
+        for (std::int64_t u = 0; u < std::min<std::int64_t>(dim, 2); ++u)
+          in.d("a parametric coordinate");
+      m.points.emplace_back(x, y, z);
+      // A surface mesh has no volume nodes; a volume mesh's are put on face 0.
+      m.point_dim.push_back(static_cast<std::int8_t>(std::min<std::int64_t>(dim, 2)));
+      m.point_entity.push_back(dim == 3 ? 0 : entity_id(tag));
+      m.point_t.push_back(0.0);
+    }
+  }
+  if (static_cast<std::int64_t>(m.points.size()) != total)
+    fail(in.where() + ": " + std::to_string(total) + " nodes announced, " +
+         std::to_string(m.points.size()) + " found");
+  in.end_section("$EndNodes");
+}
+
+// $Elements: blocks of one element type on one entity.
+void read_msh41_elements(MshIn& in, const NodeMap& nodes, ElementSink& sink) {
+  in.begin_section();
+  const std::int64_t blocks = in.count("the number of element blocks");
+  const std::int64_t total = in.count("the number of elements");
+  in.z("the smallest element tag");
+  in.z("the largest element tag");
+  std::int64_t seen = 0;
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    in.i("an element block dimension");
+    const std::int64_t tag = in.i("an element block entity tag");
+    const std::int64_t type = in.i("an element type");
+    const std::int64_t n = in.count("the number of elements in the block");
+    const int nn = msh_nodes_of_type(type);
+    if (nn < 0) fail(in.where() + ": unknown element type " + std::to_string(type));
+    seen += n;
+    if (seen > total)
+      fail(in.where() + ": the element blocks hold more elements than the " +
+           std::to_string(total) + " announced");
+    NodeId nd[10];
+    for (std::int64_t k = 0; k < n; ++k) {
+      in.z("an element tag");
+      for (int j = 0; j < nn; ++j) nd[j] = nodes.at(in.z("an element node tag"), in.where());
+      sink.element(type, nd, entity_id(tag));
+    }
+  }
+  if (seen != total)
+    fail(in.where() + ": " + std::to_string(total) + " elements announced, " +
+         std::to_string(seen) + " found");
+  in.end_section("$EndElements");
+}
+
 void read_msh41(Text& t, Bytes* bin, MeshReadResult& r) {
   SurfaceMesh& m = r.mesh;
   MshIn in(t, bin);
@@ -186,93 +280,13 @@ void read_msh41(Text& t, Bytes* bin, MeshReadResult& r) {
   while (!t.at_end()) {
     const std::string_view sec = t.token();
     if (sec == "$Entities") {
-      in.begin_section();
-      std::int64_t n[4];
-      for (auto& k : n) k = in.count("an entity count");
-      for (int d = 0; d < 4; ++d) {
-        r.entities[static_cast<std::size_t>(d)] = static_cast<std::size_t>(n[d]);
-        for (std::int64_t e = 0; e < n[d]; ++e) {
-          in.i("an entity tag");
-          for (int k = 0; k < (d == 0 ? 3 : 6); ++k) in.d("an entity bounding-box coordinate");
-          const std::int64_t nphys = in.count("the number of physical tags");
-          for (std::int64_t k = 0; k < nphys; ++k) in.i("a physical tag");
-          if (d > 0) {
-            const std::int64_t nb = in.count("the number of bounding entities");
-            for (std::int64_t k = 0; k < nb; ++k) in.i("a bounding entity tag");
-          }
-        }
-      }
-      in.end_section("$EndEntities");
+      read_msh41_entities(in, r);
     } else if (sec == "$Nodes") {
-      in.begin_section();
-      const std::int64_t blocks = in.count("the number of node blocks");
-      const std::int64_t total = in.count("the number of nodes");
-      in.z("the smallest node tag");
-      in.z("the largest node tag");
-      nodes.reserve(bounded(total));
-      m.points.reserve(bounded(total));
-      for (std::int64_t b = 0; b < blocks; ++b) {
-        const std::int64_t dim = in.i("a node block dimension");
-        const std::int64_t tag = in.i("a node block entity tag");
-        const std::int64_t parametric = in.i("the parametric flag");
-        const std::int64_t n = in.count("the number of nodes in the block");
-        if (dim < 0 || dim > 3)
-          fail(in.where() + ": node block of dimension " + std::to_string(dim));
-        if (static_cast<std::int64_t>(m.points.size()) + n > total)
-          fail(in.where() + ": the node blocks hold more nodes than the " + std::to_string(total) +
-               " announced");
-        const std::size_t first = m.points.size();
-        for (std::int64_t k = 0; k < n; ++k) {
-          const std::int64_t nt = in.z("a node tag");
-          nodes.add(nt, static_cast<NodeId>(first + static_cast<std::size_t>(k)), in.where());
-        }
-        for (std::int64_t k = 0; k < n; ++k) {
-          const double x = in.d("x"), y = in.d("y"), z = in.d("z");
-          if (parametric)
-            for (std::int64_t u = 0; u < std::min<std::int64_t>(dim, 2); ++u)
-              in.d("a parametric coordinate");
-          m.points.emplace_back(x, y, z);
-          // A surface mesh has no volume nodes; a volume mesh's are put on face 0.
-          m.point_dim.push_back(static_cast<std::int8_t>(std::min<std::int64_t>(dim, 2)));
-          m.point_entity.push_back(dim == 3 ? 0 : entity_id(tag));
-          m.point_t.push_back(0.0);
-        }
-      }
-      if (static_cast<std::int64_t>(m.points.size()) != total)
-        fail(in.where() + ": " + std::to_string(total) + " nodes announced, " +
-             std::to_string(m.points.size()) + " found");
-      in.end_section("$EndNodes");
+      read_msh41_nodes(in, nodes, m);
       have_nodes = true;
     } else if (sec == "$Elements") {
       if (!have_nodes) fail(t.where() + ": $Elements before $Nodes");
-      in.begin_section();
-      const std::int64_t blocks = in.count("the number of element blocks");
-      const std::int64_t total = in.count("the number of elements");
-      in.z("the smallest element tag");
-      in.z("the largest element tag");
-      std::int64_t seen = 0;
-      for (std::int64_t b = 0; b < blocks; ++b) {
-        in.i("an element block dimension");
-        const std::int64_t tag = in.i("an element block entity tag");
-        const std::int64_t type = in.i("an element type");
-        const std::int64_t n = in.count("the number of elements in the block");
-        const int nn = msh_nodes_of_type(type);
-        if (nn < 0) fail(in.where() + ": unknown element type " + std::to_string(type));
-        seen += n;
-        if (seen > total)
-          fail(in.where() + ": the element blocks hold more elements than the " +
-               std::to_string(total) + " announced");
-        NodeId nd[10];
-        for (std::int64_t k = 0; k < n; ++k) {
-          in.z("an element tag");
-          for (int j = 0; j < nn; ++j) nd[j] = nodes.at(in.z("an element node tag"), in.where());
-          sink.element(type, nd, entity_id(tag));
-        }
-      }
-      if (seen != total)
-        fail(in.where() + ": " + std::to_string(total) + " elements announced, " +
-             std::to_string(seen) + " found");
-      in.end_section("$EndElements");
+      read_msh41_elements(in, nodes, sink);
       have_elements = true;
     } else {
       other_msh_section(t, sec, r, "$Entities, $Nodes, $Elements, ...");
