@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "subd_patch.h"  // private to geom: SubdPatch, the patch domains
 #include "uvmesh/geom/subd.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 #include "uvmesh/surface/check3d.h"
@@ -55,8 +56,8 @@ Bfr::Parameterization param_of(const geom::SubdModelResult& r, const geom::SubdP
 // Base face -> its patches (model faces), in sub-face order.
 std::map<geom::Id, std::vector<geom::Id>> patches_by_base(const geom::SubdModelResult& r) {
   std::map<geom::Id, std::vector<geom::Id>> m;
-  for (geom::Id f = 0; f < static_cast<geom::Id>(r.patches.size()); ++f)
-    m[r.patches[f].base_face].push_back(f);
+  for (geom::Id f = 0; f < static_cast<geom::Id>(r.patches->size()); ++f)
+    m[(*r.patches)[f].base_face].push_back(f);
   return m;
 }
 
@@ -64,7 +65,7 @@ std::size_t uniform_count(const geom::SubdModelResult& r,
                           const std::map<geom::Id, std::vector<geom::Id>>& by_base, int rate) {
   std::size_t n = 0;
   for (const auto& [bf, pf] : by_base)
-    n += Bfr::Tessellation(param_of(r, r.patches[pf[0]]), rate).GetNumFacets();
+    n += Bfr::Tessellation(param_of(r, (*r.patches)[pf[0]]), rate).GetNumFacets();
   return n;
 }
 
@@ -77,7 +78,7 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r,
   std::vector<double> uv;
   std::vector<int> facets;
   for (const auto& [bf, pf] : by_base) {
-    const geom::SubdPatch& p0 = r.patches[pf[0]];
+    const geom::SubdPatch& p0 = (*r.patches)[pf[0]];
     const Bfr::Parameterization param = param_of(r, p0);
     Bfr::Tessellation tess(param, rate);
     uv.resize(2 * static_cast<std::size_t>(tess.GetNumCoords()));
@@ -87,7 +88,7 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r,
     const auto base = static_cast<surface::NodeId>(mesh.points.size());
     // A point's patch: the sub-face holding it (n-gons), else the one patch.
     auto local = [&](int k, geom::Id f) {
-      const geom::SubdPatch& p = r.patches[f];
+      const geom::SubdPatch& p = (*r.patches)[f];
       if (!p.polygon.empty()) {
         // A whole n-gon patch: OpenSubdiv's sub-face coordinates -> its domain (the
         // polygon, or its projection for patches at a high-valence vertex).
@@ -123,7 +124,7 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r,
       // the point on that patch (it lies on its boundary).
       std::array<geom::Vec2, 3> l{local(a, f), local(b, f), local(c, f)};
       const int idx[3] = {a, b, c};
-      for (int k = 0; k < 3 && r.patches[f].polygon.empty(); ++k)
+      for (int k = 0; k < 3 && (*r.patches)[f].polygon.empty(); ++k)
         if (l[k].x < -1e-9 || l[k].y < -1e-9 || l[k].x > 1 + 1e-9 || l[k].y > 1 + 1e-9)
           l[k] = surface::project_to_surface(*r.model.faces[f].surface, mesh.points[base + idx[k]],
                                              glm::clamp(l[k], geom::Vec2(0.0), geom::Vec2(1.0)),

@@ -240,10 +240,9 @@ std::string check_reason(const BRepCheck_Analyzer& an, const TopoDS_Face& f) {
 // Why a face with an open wire is degenerate (Face::degenerate), or "" when it is not: its area A
 // is at most its boundary length P times the largest tolerance T of its boundary edges and
 // vertices, i.e. its mean width 2A/P is at most 2T: the whole face lies within the
-// tolerance tube of its own boundary. occt_caxif_k1 has eight such faces: one B-spline
-// edge of 2.56 mm, tolerance 0.046 mm, whose ends are 1.64 mm apart (the wire is open),
-// bounding 0.0109 mm^2 (mean width 0.0085 mm); meshing them failed, or gave needles
-// that deviated from the surface.
+// tolerance tube of its own boundary (e.g. one B-spline edge whose ends are farther
+// apart than its tolerance, so the wire is open, bounding a sliver narrower than that
+// tolerance); meshing such faces fails, or gives needles that deviate from the surface.
 std::string degenerate_face_reason(const TopoDS_Face& f) {
   double perimeter = 0.0, tol = BRep_Tool::Tolerance(f);
   for (TopExp_Explorer ex(f, TopAbs_EDGE); ex.More(); ex.Next()) {
@@ -274,11 +273,11 @@ struct SeamPcurve {
 };
 
 // Some files give both uses of a seam edge the same pcurve (a doubly periodic surface
-// of revolution in dagmc_ball_reactor: both uses of the u-seam at u = 0, both of the
-// v-seam at v = vmax), so the loop encloses nothing. The face's loop must run
-// counter-clockwise: on a seam at constant u, the use going up (v increasing) is the
-// right side and the one going down the left side; on a seam at constant v, the use
-// going in +u is the bottom side. The use on the wrong side is moved by the period.
+// of revolution: both uses of the u-seam at u = 0, both of the v-seam at v = vmax), so the loop
+// encloses nothing. The face's loop must run counter-clockwise: on a seam at constant u, the use
+// going up (v increasing) is the right side and the one going down the left side; on a seam at
+// constant v, the use going in +u is the bottom side. The use on the wrong side is moved by the
+// period.
 void fix_coincident_seams(Face& fc, const std::vector<SeamPcurve>& pcs) {
   if (!fc.surface) return;
   for (std::size_t i = 0; i < pcs.size(); ++i)
@@ -327,7 +326,7 @@ void fix_coincident_seams(Face& fc, const std::vector<SeamPcurve>& pcs) {
 // Orders a loop's uses so that each starts, in (u,v), where the previous one ends. The
 // wire explorer chains edges through their 3D vertices, which is ambiguous when one
 // vertex closes several edges: on a doubly closed face (the revolution of a closed
-// profile: dagmc_ball_reactor's face 0, one vertex and two seams) it returned
+// profile: one vertex and two seams) it returned
 // "bottom, top, left, right", and the (u,v) boundary built from it jumped across the
 // domain and crossed itself. A loop that already chains (total gap ~0) is left alone;
 // otherwise a greedy chain from the first use is kept when it closes the gaps better.
@@ -377,165 +376,199 @@ void chain_loop_in_uv(Loop& loop, const Box2& box) {
   loop.uses = std::move(uses);
 }
 
+// The shape's sub-shapes of every kind, numbered as the Model numbers them (index - 1).
+struct OccMaps {
+  TopTools_IndexedMapOfShape vmap, emap, fmap, shmap, somap;
+};
+
+void convert_vertices(const OccMaps& M, Model& m, std::string& where) {
+  m.vertices.resize(static_cast<std::size_t>(M.vmap.Extent()));
+  for (int i = 1; i <= M.vmap.Extent(); ++i) {
+    where = "vertex " + std::to_string(i - 1);
+    const TopoDS_Vertex& v = TopoDS::Vertex(M.vmap(i));
+    m.vertices[i - 1] = {v3(BRep_Tool::Pnt(v)), BRep_Tool::Tolerance(v)};
+  }
+}
+
+void convert_edges(const OccMaps& M, Model& m, std::string& where) {
+  m.edges.resize(static_cast<std::size_t>(M.emap.Extent()));
+  for (int i = 1; i <= M.emap.Extent(); ++i) {
+    where = "edge " + std::to_string(i - 1);
+    const TopoDS_Edge e = TopoDS::Edge(M.emap(i).Oriented(TopAbs_FORWARD));
+    Edge& ed = m.edges[i - 1];
+    ed.tol = BRep_Tool::Tolerance(e);
+    ed.degenerate = BRep_Tool::Degenerated(e);
+    TopoDS_Vertex vf, vl;
+    TopExp::Vertices(e, vf, vl);
+    if (!vf.IsNull()) ed.v0 = M.vmap.FindIndex(vf) - 1;
+    if (!vl.IsNull()) ed.v1 = M.vmap.FindIndex(vl) - 1;
+    double f = 0.0, l = 0.0;
+    BRep_Tool::Range(e, f, l);
+    ed.range = {f, l};
+    // An edge without a 3D curve (degenerate, or some IGES edges known only by their
+    // pcurves): BRepAdaptor_Curve falls back to the curve on surface when there is one.
+    if (!ed.degenerate) {
+      ed.curve = std::make_shared<OccCurve>(e);
+      ed.range = ed.curve->range();
+      ed.length = arc_length(*ed.curve, ed.range.lo, ed.range.hi);
+    }
+  }
+}
+
+// Boundary edges of wire w in connected order; INTERNAL edges (embedded, not a step of the
+// cycle) after them; EXTERNAL ones are dropped by the caller.
+std::vector<TopoDS_Edge> wire_edge_order(const TopoDS_Wire& w, const TopoDS_Face& ff) {
+  auto embedded = [](const TopoDS_Shape& e) {
+    return e.Orientation() == TopAbs_INTERNAL || e.Orientation() == TopAbs_EXTERNAL;
+  };
+  int n_edges = 0;
+  for (TopoDS_Iterator it(w); it.More(); it.Next())
+    if (it.Value().ShapeType() == TopAbs_EDGE && !embedded(it.Value())) ++n_edges;
+  std::vector<TopoDS_Edge> order;
+  // Connected order from the wire explorer; a wire it cannot chain (disconnected
+  // or non-manifold) keeps its stored order instead of losing edges.
+  for (BRepTools_WireExplorer wex(w, ff); wex.More(); wex.Next())
+    if (!embedded(wex.Current())) order.push_back(wex.Current());
+  if (static_cast<int>(order.size()) != n_edges) {
+    order.clear();
+    for (TopoDS_Iterator it(w); it.More(); it.Next())
+      if (it.Value().ShapeType() == TopAbs_EDGE && !embedded(it.Value()))
+        order.push_back(TopoDS::Edge(it.Value()));
+  }
+  for (TopoDS_Iterator it(w); it.More(); it.Next())
+    if (it.Value().ShapeType() == TopAbs_EDGE && embedded(it.Value()))
+      order.push_back(TopoDS::Edge(it.Value()));
+  return order;
+}
+
+// The loops of face ff (forward) in its wires' order, with the seam pcurves that
+// fix_coincident_seams inspects.
+void convert_loops(const OccMaps& M, const TopoDS_Face& ff, Face& fc,
+                   std::vector<SeamPcurve>& seam_pc) {
+  const TopoDS_Wire outer = BRepTools::OuterWire(ff);
+  for (TopoDS_Iterator wit(ff); wit.More(); wit.Next()) {
+    if (wit.Value().ShapeType() != TopAbs_WIRE) continue;
+    const TopoDS_Wire w = TopoDS::Wire(wit.Value());
+    Loop loop;
+    loop.outer = !outer.IsNull() && w.IsSame(outer);
+    for (const TopoDS_Edge& e : wire_edge_order(w, ff)) {
+      // EXTERNAL edges lie outside the face's material (construction geometry).
+      if (e.Orientation() == TopAbs_EXTERNAL) continue;
+      EdgeUse u;
+      u.edge = M.emap.FindIndex(e) - 1;
+      u.reversed = e.Orientation() == TopAbs_REVERSED;
+      u.internal = e.Orientation() == TopAbs_INTERNAL;
+      u.seam = BRep_Tool::IsClosed(e, ff);
+      double f = 0.0, l = 0.0;
+      Handle(Geom2d_Curve) c2 = BRep_Tool::CurveOnSurface(e, ff, f, l);
+      if (!c2.IsNull()) u.pcurve = std::make_shared<OccCurve2>(c2, f, l);
+      if (u.seam && !c2.IsNull()) seam_pc.push_back({fc.loops.size(), loop.uses.size(), c2});
+      u.range = {f, l};
+      loop.uses.push_back(std::move(u));
+    }
+    fc.loops.push_back(std::move(loop));
+  }
+}
+
+void convert_face(const OccMaps& M, const TopoDS_Face& face0, const OccModelOptions& opt,
+                  Face& fc) {
+  fc.reversed = face0.Orientation() == TopAbs_REVERSED;
+  const TopoDS_Face ff = TopoDS::Face(face0.Oriented(TopAbs_FORWARD));
+  fc.tol = BRep_Tool::Tolerance(ff);
+  double u0 = 0, u1 = 0, w0 = 0, w1 = 0;
+  BRepTools::UVBounds(ff, u0, u1, w0, w1);
+  fc.uv_box = {{u0, u1}, {w0, w1}};
+  if (!BRep_Tool::Surface(ff).IsNull()) {
+    auto s = std::make_shared<OccSurface>(ff, fc.uv_box, opt.pole_rel_tol);
+    fc.kind = s->kind();
+    fc.surface = std::move(s);
+  }
+  std::vector<SeamPcurve> seam_pc;
+  convert_loops(M, ff, fc, seam_pc);
+  fix_coincident_seams(fc, seam_pc);
+  for (Loop& l : fc.loops) chain_loop_in_uv(l, fc.uv_box);
+  std::stable_sort(fc.loops.begin(), fc.loops.end(),
+                   [](const Loop& a, const Loop& b) { return a.outer && !b.outer; });
+  if (opt.check_validity) {
+    BRepCheck_Analyzer an(face0, Standard_True);
+    fc.valid = an.IsValid();
+    if (!fc.valid) fc.invalid_reason = check_reason(an, face0);
+  }
+  bool open_wire = false;
+  for (TopoDS_Iterator wit(ff); wit.More(); wit.Next())
+    if (wit.Value().ShapeType() == TopAbs_WIRE && !BRep_Tool::IsClosed(wit.Value()))
+      open_wire = true;
+  // Only a face with an open wire: a closed one around a sliver (strips between two
+  // copies of one curve, narrower than their tolerances) still closes its solid between
+  // those two curves, and is meshed.
+  if (open_wire) fc.degenerate_reason = degenerate_face_reason(ff);
+  fc.degenerate = !fc.degenerate_reason.empty();
+}
+
+void convert_faces(const OccMaps& M, const OccModelOptions& opt, Model& m, std::string& where) {
+  m.faces.resize(static_cast<std::size_t>(M.fmap.Extent()));
+  for (int i = 1; i <= M.fmap.Extent(); ++i) {
+    where = "face " + std::to_string(i - 1);
+    convert_face(M, TopoDS::Face(M.fmap(i)), opt, m.faces[i - 1]);
+  }
+}
+
+void convert_shells_and_solids(const OccMaps& M, Model& m, std::string& where) {
+  m.shells.resize(static_cast<std::size_t>(M.shmap.Extent()));
+  for (int i = 1; i <= M.shmap.Extent(); ++i) {
+    where = "shell " + std::to_string(i - 1);
+    Shell& sh = m.shells[i - 1];
+    sh.closed = BRep_Tool::IsClosed(M.shmap(i));
+    for (TopExp_Explorer ex(M.shmap(i), TopAbs_FACE); ex.More(); ex.Next()) {
+      const Id f = M.fmap.FindIndex(ex.Current()) - 1;
+      if (std::find(sh.faces.begin(), sh.faces.end(), f) == sh.faces.end()) sh.faces.push_back(f);
+      if (m.faces[f].shell == kNone) m.faces[f].shell = i - 1;
+    }
+  }
+  m.solids.resize(static_cast<std::size_t>(M.somap.Extent()));
+  for (int i = 1; i <= M.somap.Extent(); ++i) {
+    Solid& so = m.solids[i - 1];
+    for (TopExp_Explorer ex(M.somap(i), TopAbs_SHELL); ex.More(); ex.Next()) {
+      const Id s = M.shmap.FindIndex(ex.Current()) - 1;
+      if (std::find(so.shells.begin(), so.shells.end(), s) == so.shells.end())
+        so.shells.push_back(s);
+    }
+  }
+}
+
+void add_bounding_box(const TopoDS_Shape& shape, Model& m) {
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box, Standard_False);
+  if (!box.IsVoid()) {
+    double x0, y0, z0, x1, y1, z1;
+    box.Get(x0, y0, z0, x1, y1, z1);
+    m.bbox.add(Vec3(x0, y0, z0));
+    m.bbox.add(Vec3(x1, y1, z1));
+  }
+}
+
 }  // namespace
 
 Model model_from_occ(const TopoDS_Shape& shape, const OccModelOptions& opt) {
   Model m;
   std::string where = "shape";  // the entity being converted, for error messages
   try {
+    // The signal handler covers every step below (they run inside this block).
     OCC_CATCH_SIGNALS
-    TopTools_IndexedMapOfShape vmap, emap, fmap, shmap, somap;
-    TopExp::MapShapes(shape, TopAbs_VERTEX, vmap);
-    TopExp::MapShapes(shape, TopAbs_EDGE, emap);
-    TopExp::MapShapes(shape, TopAbs_FACE, fmap);
-    TopExp::MapShapes(shape, TopAbs_SHELL, shmap);
-    TopExp::MapShapes(shape, TopAbs_SOLID, somap);
-
-    m.vertices.resize(static_cast<std::size_t>(vmap.Extent()));
-    for (int i = 1; i <= vmap.Extent(); ++i) {
-      where = "vertex " + std::to_string(i - 1);
-      const TopoDS_Vertex& v = TopoDS::Vertex(vmap(i));
-      m.vertices[i - 1] = {v3(BRep_Tool::Pnt(v)), BRep_Tool::Tolerance(v)};
-    }
-
-    m.edges.resize(static_cast<std::size_t>(emap.Extent()));
-    for (int i = 1; i <= emap.Extent(); ++i) {
-      where = "edge " + std::to_string(i - 1);
-      const TopoDS_Edge e = TopoDS::Edge(emap(i).Oriented(TopAbs_FORWARD));
-      Edge& ed = m.edges[i - 1];
-      ed.tol = BRep_Tool::Tolerance(e);
-      ed.degenerate = BRep_Tool::Degenerated(e);
-      TopoDS_Vertex vf, vl;
-      TopExp::Vertices(e, vf, vl);
-      if (!vf.IsNull()) ed.v0 = vmap.FindIndex(vf) - 1;
-      if (!vl.IsNull()) ed.v1 = vmap.FindIndex(vl) - 1;
-      double f = 0.0, l = 0.0;
-      BRep_Tool::Range(e, f, l);
-      ed.range = {f, l};
-      // An edge without a 3D curve (degenerate, or some IGES edges known only by their
-      // pcurves): BRepAdaptor_Curve falls back to the curve on surface when there is one.
-      if (!ed.degenerate) {
-        ed.curve = std::make_shared<OccCurve>(e);
-        ed.range = ed.curve->range();
-        ed.length = arc_length(*ed.curve, ed.range.lo, ed.range.hi);
-      }
-    }
-
-    m.faces.resize(static_cast<std::size_t>(fmap.Extent()));
-    for (int i = 1; i <= fmap.Extent(); ++i) {
-      where = "face " + std::to_string(i - 1);
-      const TopoDS_Face& face0 = TopoDS::Face(fmap(i));
-      Face& fc = m.faces[i - 1];
-      fc.reversed = face0.Orientation() == TopAbs_REVERSED;
-      const TopoDS_Face ff = TopoDS::Face(face0.Oriented(TopAbs_FORWARD));
-      fc.tol = BRep_Tool::Tolerance(ff);
-      double u0 = 0, u1 = 0, w0 = 0, w1 = 0;
-      BRepTools::UVBounds(ff, u0, u1, w0, w1);
-      fc.uv_box = {{u0, u1}, {w0, w1}};
-      if (!BRep_Tool::Surface(ff).IsNull()) {
-        auto s = std::make_shared<OccSurface>(ff, fc.uv_box, opt.pole_rel_tol);
-        fc.kind = s->kind();
-        fc.surface = std::move(s);
-      }
-      const TopoDS_Wire outer = BRepTools::OuterWire(ff);
-      std::vector<SeamPcurve> seam_pc;
-      for (TopoDS_Iterator wit(ff); wit.More(); wit.Next()) {
-        if (wit.Value().ShapeType() != TopAbs_WIRE) continue;
-        const TopoDS_Wire w = TopoDS::Wire(wit.Value());
-        Loop loop;
-        loop.outer = !outer.IsNull() && w.IsSame(outer);
-        // Boundary edges in connected order; INTERNAL edges (embedded, not a step of the
-        // cycle) after them; EXTERNAL ones are dropped below.
-        auto embedded = [](const TopoDS_Shape& e) {
-          return e.Orientation() == TopAbs_INTERNAL || e.Orientation() == TopAbs_EXTERNAL;
-        };
-        int n_edges = 0;
-        for (TopoDS_Iterator it(w); it.More(); it.Next())
-          if (it.Value().ShapeType() == TopAbs_EDGE && !embedded(it.Value())) ++n_edges;
-        std::vector<TopoDS_Edge> order;
-        // Connected order from the wire explorer; a wire it cannot chain (disconnected
-        // or non-manifold) keeps its stored order instead of losing edges.
-        for (BRepTools_WireExplorer wex(w, ff); wex.More(); wex.Next())
-          if (!embedded(wex.Current())) order.push_back(wex.Current());
-        if (static_cast<int>(order.size()) != n_edges) {
-          order.clear();
-          for (TopoDS_Iterator it(w); it.More(); it.Next())
-            if (it.Value().ShapeType() == TopAbs_EDGE && !embedded(it.Value()))
-              order.push_back(TopoDS::Edge(it.Value()));
-        }
-        for (TopoDS_Iterator it(w); it.More(); it.Next())
-          if (it.Value().ShapeType() == TopAbs_EDGE && embedded(it.Value()))
-            order.push_back(TopoDS::Edge(it.Value()));
-        for (const TopoDS_Edge& e : order) {
-          // EXTERNAL edges lie outside the face's material (construction geometry).
-          if (e.Orientation() == TopAbs_EXTERNAL) continue;
-          EdgeUse u;
-          u.edge = emap.FindIndex(e) - 1;
-          u.reversed = e.Orientation() == TopAbs_REVERSED;
-          u.internal = e.Orientation() == TopAbs_INTERNAL;
-          u.seam = BRep_Tool::IsClosed(e, ff);
-          double f = 0.0, l = 0.0;
-          Handle(Geom2d_Curve) c2 = BRep_Tool::CurveOnSurface(e, ff, f, l);
-          if (!c2.IsNull()) u.pcurve = std::make_shared<OccCurve2>(c2, f, l);
-          if (u.seam && !c2.IsNull()) seam_pc.push_back({fc.loops.size(), loop.uses.size(), c2});
-          u.range = {f, l};
-          loop.uses.push_back(std::move(u));
-        }
-        fc.loops.push_back(std::move(loop));
-      }
-      fix_coincident_seams(fc, seam_pc);
-      for (Loop& l : fc.loops) chain_loop_in_uv(l, fc.uv_box);
-      std::stable_sort(fc.loops.begin(), fc.loops.end(),
-                       [](const Loop& a, const Loop& b) { return a.outer && !b.outer; });
-      if (opt.check_validity) {
-        BRepCheck_Analyzer an(face0, Standard_True);
-        fc.valid = an.IsValid();
-        if (!fc.valid) fc.invalid_reason = check_reason(an, face0);
-      }
-      bool open_wire = false;
-      for (TopoDS_Iterator wit(ff); wit.More(); wit.Next())
-        if (wit.Value().ShapeType() == TopAbs_WIRE && !BRep_Tool::IsClosed(wit.Value()))
-          open_wire = true;
-      // Only a face with an open wire: a closed one around a sliver (occt_caxif_b1's strips
-      // between two copies of one curve, narrower than their tolerances) still closes its
-      // solid between those two curves, and is meshed.
-      if (open_wire) fc.degenerate_reason = degenerate_face_reason(ff);
-      fc.degenerate = !fc.degenerate_reason.empty();
-    }
-
-    m.shells.resize(static_cast<std::size_t>(shmap.Extent()));
-    for (int i = 1; i <= shmap.Extent(); ++i) {
-      where = "shell " + std::to_string(i - 1);
-      Shell& sh = m.shells[i - 1];
-      sh.closed = BRep_Tool::IsClosed(shmap(i));
-      for (TopExp_Explorer ex(shmap(i), TopAbs_FACE); ex.More(); ex.Next()) {
-        const Id f = fmap.FindIndex(ex.Current()) - 1;
-        if (std::find(sh.faces.begin(), sh.faces.end(), f) == sh.faces.end()) sh.faces.push_back(f);
-        if (m.faces[f].shell == kNone) m.faces[f].shell = i - 1;
-      }
-    }
-    m.solids.resize(static_cast<std::size_t>(somap.Extent()));
-    for (int i = 1; i <= somap.Extent(); ++i) {
-      Solid& so = m.solids[i - 1];
-      for (TopExp_Explorer ex(somap(i), TopAbs_SHELL); ex.More(); ex.Next()) {
-        const Id s = shmap.FindIndex(ex.Current()) - 1;
-        if (std::find(so.shells.begin(), so.shells.end(), s) == so.shells.end())
-          so.shells.push_back(s);
-      }
-    }
-
+    OccMaps M;
+    TopExp::MapShapes(shape, TopAbs_VERTEX, M.vmap);
+    TopExp::MapShapes(shape, TopAbs_EDGE, M.emap);
+    TopExp::MapShapes(shape, TopAbs_FACE, M.fmap);
+    TopExp::MapShapes(shape, TopAbs_SHELL, M.shmap);
+    TopExp::MapShapes(shape, TopAbs_SOLID, M.somap);
+    convert_vertices(M, m, where);
+    convert_edges(M, m, where);
+    convert_faces(M, opt, m, where);
+    convert_shells_and_solids(M, m, where);
     where = "vertices closing open edges";
     split_vertices_closing_open_edges(m);
-
     where = "bounding box";
-    Bnd_Box box;
-    BRepBndLib::Add(shape, box, Standard_False);
-    if (!box.IsVoid()) {
-      double x0, y0, z0, x1, y1, z1;
-      box.Get(x0, y0, z0, x1, y1, z1);
-      m.bbox.add(Vec3(x0, y0, z0));
-      m.bbox.add(Vec3(x1, y1, z1));
-    }
+    add_bounding_box(shape, m);
   } catch (const Standard_Failure& f) {
     throw std::runtime_error("OpenCASCADE failed while converting " + where + ": " +
                              occ_message(f));

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "subd_patch.h"
 #include "uvmesh/geom/subd.h"
 
 namespace uvmesh::geom {
@@ -99,6 +100,163 @@ std::string_view to_string(SubdBoundary b) {
   return "file";
 }
 
+namespace {
+
+// `v x y z [w]`
+void parse_vertex(const std::vector<std::string_view>& tok, int ln, SubdCage& c) {
+  if (tok.size() < 4 || tok.size() > 5) throw ParseError{ln, "expected 'v x y z'"};
+  Vec3 p;
+  for (int k = 0; k < 3; ++k) {
+    if (!to_number(tok[1 + k], p[k]))
+      throw ParseError{ln, "malformed vertex coordinate '" + std::string(tok[1 + k]) + "'"};
+    if (!std::isfinite(p[k]))
+      throw ParseError{ln, "vertex coordinate is not finite (" + std::string(tok[1 + k]) + ")"};
+    if (std::abs(p[k]) > kMaxAbsCoordinate)
+      throw ParseError{ln, "vertex coordinate " + std::string(tok[1 + k]) +
+                               " is beyond the accepted magnitude 1e12 (corrupted coordinate?)"};
+  }
+  c.points.push_back(p);
+}
+
+// `f v1 v2 v3 ...`; positive indices beyond the vertices so far go to forward_refs.
+void parse_face(const std::vector<std::string_view>& tok, int ln, SubdCage& c,
+                std::vector<std::pair<int, int>>& forward_refs) {
+  if (tok.size() < 4) throw ParseError{ln, "a face needs at least 3 vertices"};
+  const std::size_t first = c.face_verts.size();
+  for (std::size_t k = 1; k < tok.size(); ++k) {
+    // "v", "v/vt", "v//vn", "v/vt/vn": only the vertex index matters.
+    const std::string_view vs = tok[k].substr(0, tok[k].find('/'));
+    long idx = 0;
+    if (!to_number(vs, idx))
+      throw ParseError{ln, "malformed face index '" + std::string(tok[k]) + "'"};
+    if (idx == 0) throw ParseError{ln, "face index 0 (OBJ indices start at 1)"};
+    long v0 = 0;
+    if (idx < 0) {
+      v0 = static_cast<long>(c.points.size()) + idx;  // relative to the vertices so far
+      if (v0 < 0)
+        throw ParseError{ln, "face index " + std::to_string(idx) +
+                                 " refers before the first vertex (" +
+                                 std::to_string(c.points.size()) + " defined so far)"};
+    } else {
+      v0 = idx - 1;
+      if (v0 > 0x7fffffffL - 1)
+        throw ParseError{ln, "face index " + std::to_string(idx) + " is too large"};
+      if (v0 >= static_cast<long>(c.points.size()))
+        forward_refs.push_back({static_cast<int>(v0), ln});
+    }
+    c.face_verts.push_back(static_cast<int>(v0));
+  }
+  // A vertex repeated in a face is left to OpenSubdiv, which takes such faces as
+  // non-manifold (the corpus has such cages, on purpose).
+  c.face_sizes.push_back(static_cast<int>(c.face_verts.size() - first));
+  c.face_lines.push_back(ln);
+}
+
+// The arguments of one `t` line.
+struct TagArgs {
+  std::string name;
+  std::array<int, 3> n{};  // nint, nfloat, nstring
+  std::vector<int> ia;
+  std::vector<float> fa;
+  std::vector<std::string> sa;
+};
+
+// t NAME nints/nfloats/nstrings ints... floats... strings...
+TagArgs parse_tag_args(const std::vector<std::string_view>& tok, int ln) {
+  if (tok.size() < 3) throw ParseError{ln, "expected 't NAME nint/nfloat/nstring ...'"};
+  TagArgs t;
+  t.name = std::string(tok[1]);
+  const std::string& tname = t.name;
+  std::array<int, 3>& n = t.n;
+  {
+    const std::string_view cs = tok[2];
+    const auto s1 = cs.find('/'), s2 = s1 == std::string_view::npos ? s1 : cs.find('/', s1 + 1);
+    if (s2 == std::string_view::npos || !to_number(cs.substr(0, s1), n[0]) ||
+        !to_number(cs.substr(s1 + 1, s2 - s1 - 1), n[1]) || !to_number(cs.substr(s2 + 1), n[2]) ||
+        n[0] < 0 || n[1] < 0 || n[2] < 0)
+      throw ParseError{
+          ln, "malformed tag counts '" + std::string(cs) + "' (expected nint/nfloat/nstring)"};
+  }
+  // Summed in 64 bits: three counts near INT_MAX overflow int.
+  const std::int64_t nargs = std::int64_t{n[0]} + n[1] + n[2];
+  if (static_cast<std::int64_t>(tok.size()) != 3 + nargs)
+    throw ParseError{ln, "tag '" + tname + "' announces " + std::to_string(nargs) +
+                             " arguments but has " + std::to_string(tok.size() - 3)};
+  t.ia.resize(n[0]);
+  t.fa.resize(n[1]);
+  for (int k = 0; k < n[0]; ++k)
+    if (!to_number(tok[3 + k], t.ia[k]))
+      throw ParseError{
+          ln, "malformed integer '" + std::string(tok[3 + k]) + "' in tag '" + tname + "'"};
+  for (int k = 0; k < n[1]; ++k) {
+    const auto& s = tok[3 + n[0] + k];
+    if (!to_number(s, t.fa[k]) || !std::isfinite(t.fa[k]))
+      throw ParseError{ln, "malformed number '" + std::string(s) + "' in tag '" + tname + "'"};
+  }
+  for (int k = 0; k < n[2]; ++k) t.sa.emplace_back(tok[3 + n[0] + n[1] + k]);
+  for (int i : t.ia)
+    if (i < 0)
+      throw ParseError{ln, "negative index " + std::to_string(i) + " in tag '" + tname +
+                               "' (tag indices are 0-based)"};
+  return t;
+}
+
+// A `t` line: creases, corners, holes, interpolateboundary, creasemethod; other tags are
+// ignored with a warning.
+void parse_tag(const std::vector<std::string_view>& tok, int ln, const std::string& name,
+               SubdCage& c) {
+  const TagArgs t = parse_tag_args(tok, ln);
+  const std::string& tname = t.name;
+  const std::array<int, 3>& n = t.n;
+  const std::vector<int>& ia = t.ia;
+  const std::vector<float>& fa = t.fa;
+  const std::vector<std::string>& sa = t.sa;
+  if (tname == "crease") {
+    // A chain of vertices; one sharpness for all its edges or one per edge.
+    if (n[0] < 2 || (n[1] != 1 && n[1] != n[0] - 1))
+      throw ParseError{ln, "crease: expected 2 or more vertices and 1 sharpness (or one per edge)"};
+    for (int k = 0; k + 1 < n[0]; ++k)
+      c.creases.push_back({ia[k], ia[k + 1], fa[n[1] == 1 ? 0 : k], ln});
+  } else if (tname == "corner") {
+    if (n[0] < 1 || (n[1] != 1 && n[1] != n[0]))
+      throw ParseError{ln, "corner: expected vertices and 1 sharpness (or one per vertex)"};
+    for (int k = 0; k < n[0]; ++k) c.corners.push_back({ia[k], fa[n[1] == 1 ? 0 : k], ln});
+  } else if (tname == "hole") {
+    for (int k = 0; k < n[0]; ++k) c.holes.push_back({ia[k], ln});
+  } else if (tname == "interpolateboundary") {
+    if (n[0] != 1 || ia[0] > 2)
+      throw ParseError{ln, "interpolateboundary: expected one integer 0, 1 or 2"};
+    c.interpolate_boundary = ia[0];
+  } else if (tname == "creasemethod") {
+    if (n[2] != 1 || (sa[0] != "normal" && sa[0] != "chaikin"))
+      throw ParseError{ln, "creasemethod: expected 'normal' or 'chaikin'"};
+    c.chaikin = sa[0] == "chaikin";
+  } else {
+    c.warnings.push_back(name + ":" + std::to_string(ln) + ": tag '" + tname + "' ignored");
+  }
+}
+
+// One OBJ statement (the line without its comment).
+void parse_statement(const std::vector<std::string_view>& tok, int ln, const std::string& name,
+                     SubdCage& c, std::vector<std::pair<int, int>>& forward_refs) {
+  const std::string_view kw = tok[0];
+  if (kw == "v") {
+    parse_vertex(tok, ln, c);
+  } else if (kw == "f") {
+    parse_face(tok, ln, c, forward_refs);
+  } else if (kw == "t") {
+    parse_tag(tok, ln, name, c);
+  } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "g" || kw == "o" || kw == "s" ||
+             kw == "usemtl" || kw == "mtllib" || kw == "l") {
+    // texture, normals, grouping and materials do not change the limit surface
+  } else {
+    c.warnings.push_back(name + ":" + std::to_string(ln) + ": statement '" + std::string(kw) +
+                         "' ignored");
+  }
+}
+
+}  // namespace
+
 SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
   SubdCageResult r;
   SubdCage& c = r.cage;
@@ -113,122 +271,7 @@ SubdCageResult parse_obj_cage(std::istream& in, const std::string& name) {
       ++ln;
       if (auto h = line.find('#'); h != std::string::npos) line.resize(h);
       const auto tok = split(line);
-      if (tok.empty()) continue;
-      const std::string_view kw = tok[0];
-      if (kw == "v") {
-        if (tok.size() < 4 || tok.size() > 5) throw ParseError{ln, "expected 'v x y z'"};
-        Vec3 p;
-        for (int k = 0; k < 3; ++k) {
-          if (!to_number(tok[1 + k], p[k]))
-            throw ParseError{ln, "malformed vertex coordinate '" + std::string(tok[1 + k]) + "'"};
-          if (!std::isfinite(p[k]))
-            throw ParseError{ln,
-                             "vertex coordinate is not finite (" + std::string(tok[1 + k]) + ")"};
-          if (std::abs(p[k]) > kMaxAbsCoordinate)
-            throw ParseError{ln,
-                             "vertex coordinate " + std::string(tok[1 + k]) +
-                                 " is beyond the accepted magnitude 1e12 (corrupted coordinate?)"};
-        }
-        c.points.push_back(p);
-      } else if (kw == "f") {
-        if (tok.size() < 4) throw ParseError{ln, "a face needs at least 3 vertices"};
-        const std::size_t first = c.face_verts.size();
-        for (std::size_t k = 1; k < tok.size(); ++k) {
-          // "v", "v/vt", "v//vn", "v/vt/vn": only the vertex index matters.
-          const std::string_view vs = tok[k].substr(0, tok[k].find('/'));
-          long idx = 0;
-          if (!to_number(vs, idx))
-            throw ParseError{ln, "malformed face index '" + std::string(tok[k]) + "'"};
-          if (idx == 0) throw ParseError{ln, "face index 0 (OBJ indices start at 1)"};
-          long v0 = 0;
-          if (idx < 0) {
-            v0 = static_cast<long>(c.points.size()) + idx;  // relative to the vertices so far
-            if (v0 < 0)
-              throw ParseError{ln, "face index " + std::to_string(idx) +
-                                       " refers before the first vertex (" +
-                                       std::to_string(c.points.size()) + " defined so far)"};
-          } else {
-            v0 = idx - 1;
-            if (v0 > 0x7fffffffL - 1)
-              throw ParseError{ln, "face index " + std::to_string(idx) + " is too large"};
-            if (v0 >= static_cast<long>(c.points.size()))
-              forward_refs.push_back({static_cast<int>(v0), ln});
-          }
-          c.face_verts.push_back(static_cast<int>(v0));
-        }
-        // A vertex repeated in a face is left to OpenSubdiv, which takes such faces as
-        // non-manifold (catmark_nonman_edges.obj has some, on purpose).
-        c.face_sizes.push_back(static_cast<int>(c.face_verts.size() - first));
-        c.face_lines.push_back(ln);
-      } else if (kw == "t") {
-        // t NAME nints/nfloats/nstrings ints... floats... strings...
-        if (tok.size() < 3) throw ParseError{ln, "expected 't NAME nint/nfloat/nstring ...'"};
-        const std::string tname(tok[1]);
-        std::array<int, 3> n{};
-        {
-          const std::string_view cs = tok[2];
-          const auto s1 = cs.find('/'),
-                     s2 = s1 == std::string_view::npos ? s1 : cs.find('/', s1 + 1);
-          if (s2 == std::string_view::npos || !to_number(cs.substr(0, s1), n[0]) ||
-              !to_number(cs.substr(s1 + 1, s2 - s1 - 1), n[1]) ||
-              !to_number(cs.substr(s2 + 1), n[2]) || n[0] < 0 || n[1] < 0 || n[2] < 0)
-            throw ParseError{ln, "malformed tag counts '" + std::string(cs) +
-                                     "' (expected nint/nfloat/nstring)"};
-        }
-        // Summed in 64 bits: three counts near INT_MAX overflow int.
-        const std::int64_t nargs = std::int64_t{n[0]} + n[1] + n[2];
-        if (static_cast<std::int64_t>(tok.size()) != 3 + nargs)
-          throw ParseError{ln, "tag '" + tname + "' announces " + std::to_string(nargs) +
-                                   " arguments but has " + std::to_string(tok.size() - 3)};
-        std::vector<int> ia(n[0]);
-        std::vector<float> fa(n[1]);
-        std::vector<std::string> sa;
-        for (int k = 0; k < n[0]; ++k)
-          if (!to_number(tok[3 + k], ia[k]))
-            throw ParseError{
-                ln, "malformed integer '" + std::string(tok[3 + k]) + "' in tag '" + tname + "'"};
-        for (int k = 0; k < n[1]; ++k) {
-          const auto& s = tok[3 + n[0] + k];
-          if (!to_number(s, fa[k]) || !std::isfinite(fa[k]))
-            throw ParseError{ln,
-                             "malformed number '" + std::string(s) + "' in tag '" + tname + "'"};
-        }
-        for (int k = 0; k < n[2]; ++k) sa.emplace_back(tok[3 + n[0] + n[1] + k]);
-        for (int i : ia)
-          if (i < 0)
-            throw ParseError{ln, "negative index " + std::to_string(i) + " in tag '" + tname +
-                                     "' (tag indices are 0-based)"};
-        if (tname == "crease") {
-          // A chain of vertices; one sharpness for all its edges or one per edge.
-          if (n[0] < 2 || (n[1] != 1 && n[1] != n[0] - 1))
-            throw ParseError{
-                ln, "crease: expected 2 or more vertices and 1 sharpness (or one per edge)"};
-          for (int k = 0; k + 1 < n[0]; ++k)
-            c.creases.push_back({ia[k], ia[k + 1], fa[n[1] == 1 ? 0 : k], ln});
-        } else if (tname == "corner") {
-          if (n[0] < 1 || (n[1] != 1 && n[1] != n[0]))
-            throw ParseError{ln, "corner: expected vertices and 1 sharpness (or one per vertex)"};
-          for (int k = 0; k < n[0]; ++k) c.corners.push_back({ia[k], fa[n[1] == 1 ? 0 : k], ln});
-        } else if (tname == "hole") {
-          for (int k = 0; k < n[0]; ++k) c.holes.push_back({ia[k], ln});
-        } else if (tname == "interpolateboundary") {
-          if (n[0] != 1 || ia[0] > 2)
-            throw ParseError{ln, "interpolateboundary: expected one integer 0, 1 or 2"};
-          c.interpolate_boundary = ia[0];
-        } else if (tname == "creasemethod") {
-          if (n[2] != 1 || (sa[0] != "normal" && sa[0] != "chaikin"))
-            throw ParseError{ln, "creasemethod: expected 'normal' or 'chaikin'"};
-          c.chaikin = sa[0] == "chaikin";
-        } else {
-          c.warnings.push_back(name + ":" + std::to_string(ln) + ": tag '" + tname + "' ignored");
-        }
-      } else if (kw == "vt" || kw == "vn" || kw == "vp" || kw == "g" || kw == "o" || kw == "s" ||
-                 kw == "usemtl" || kw == "mtllib" || kw == "l") {
-        continue;  // texture, normals, grouping and materials do not change the limit surface
-      } else {
-        c.warnings.push_back(name + ":" + std::to_string(ln) + ": statement '" + std::string(kw) +
-                             "' ignored");
-      }
+      if (!tok.empty()) parse_statement(tok, ln, name, c, forward_refs);
     }
     for (const auto& [idx, fl] : forward_refs)
       if (idx >= static_cast<int>(c.points.size()))

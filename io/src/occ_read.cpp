@@ -119,7 +119,7 @@ Counts count(const TopoDS_Shape& s) {
 // The pieces of a model the `conform` step sees: the solids (compsolids as one), which are
 // fused, and the faces that are in no solid, which are kept (as their shell when no face
 // of the shell is in a solid or already taken, else one by one). A file may list a solid's
-// shell or faces again next to it (gmsh_ellipses: 15 solids and 66 such pieces): those
+// shell or faces again next to it (some files list dozens): those
 // are the solid's, not loose. Wires, edges and vertices carry nothing to mesh.
 void collect_conform_pieces(const TopoDS_Shape& shape, TopTools_ListOfShape& solids,
                             TopTools_ListOfShape& loose) {
@@ -458,6 +458,284 @@ std::string read_shape(const std::string& path, CadFormat fmt, const std::string
   return {};
 }
 
+// The state the steps of read_cad share once the shape is read: the shape, its counts,
+// the names following it through healing, and the stage (for a message if OCC fails).
+struct CadRead {
+  TopoDS_Shape shape;
+  Counts c0;
+  ShapeNames names;
+  std::string stage = "reading";
+};
+
+// 1. Text pre-scan: nothing malformed reaches OCC. "" or the reason to refuse the file.
+std::string prescan_step(const std::string& path, const ReadOptions& opt, PrescanResult& pre,
+                         ReadReport& report) {
+  PrescanOptions po;
+  po.max_abs_coordinate = opt.max_abs_coordinate;
+  po.allow_dangling_references = opt.allow_partial;
+  pre = prescan_file(path, po);
+  const CadFormat ext = format_from_extension(path);
+  if (pre.content != CadFormat::Unknown && ext != CadFormat::Unknown && ext != pre.content &&
+      !opt.trust_content)
+    return "wrong extension: the name says " + std::string(to_string(ext)) +
+           " but the content is " + std::string(to_string(pre.content)) +
+           " (rename the file, or allow reading by content)";
+  if (!pre.ok) return pre.error;
+  for (const std::string& w : pre.warnings) report.warnings.push_back(w);
+  if (ext != CadFormat::Unknown && ext != pre.content)
+    report.warnings.push_back("extension says " + std::string(to_string(ext)) + ", read as " +
+                              std::string(to_string(pre.content)));
+  return {};
+}
+
+// Why a file whose shape has no face cannot be meshed.
+std::string no_faces_reason(const PrescanResult& pre, const TopoDS_Shape& shape) {
+  if (pre.step_tessellated_faces > 0)
+    return "no B-rep faces: the file carries only tessellated geometry (" +
+           std::to_string(pre.step_tessellated_faces) + " triangulated faces), nothing to mesh";
+  return shape.IsNull() ? "no shape could be transferred from the file (empty result)"
+                        : "the file contains no faces (empty or wire-only result)";
+}
+
+// 2a. ShapeFix_Shape, kept unless it loses entities.
+void heal_shapefix(CadRead& cr, ReadReport& report) {
+  cr.stage = "healing (ShapeFix)";
+  const auto ts = Clock::now();
+  ShapeFix_Shape fix(cr.shape);
+  fix.Perform();
+  const TopoDS_Shape fixed = fix.Shape();
+  const Counts c1 = count(fixed);
+  HealStep h = make_step("shapefix", cr.c0, c1);
+  const bool changed = fix.Status(ShapeExtend_DONE) && !fixed.IsNull();
+  // Healing must not drop anything (docs/ARCHITECTURE.md: nothing is dropped silently): a
+  // fix that loses faces or solids (ShapeFix can discard a solid whose shell it deems open)
+  // is reported and not kept.
+  const bool loses = c1.faces < cr.c0.faces || c1.solids < cr.c0.solids;
+  h.applied = changed && !loses;
+  h.detail = !changed ? "ShapeFix_Shape found nothing to fix"
+             : loses  ? "ShapeFix_Shape result not kept, it would lose entities: " + counts_text(h)
+                      : "ShapeFix_Shape modified the shape: " + counts_text(h);
+  if (changed && loses) report.warnings.push_back(h.detail);
+  if (h.applied) {
+    cr.shape = fixed;
+    cr.c0 = c1;
+    const Handle(ShapeBuild_ReShape) ctx = fix.Context();
+    if (!ctx.IsNull())
+      cr.names.follow([&](const TopoDS_Shape& s) {
+        const TopoDS_Shape v = ctx->Value(s);
+        return v.IsNull() ? std::vector<TopoDS_Shape>{} : std::vector<TopoDS_Shape>{v};
+      });
+  }
+  h.seconds = seconds_since(ts);
+  report.healing.push_back(h);
+}
+
+// One sewing of the shape at one tolerance.
+struct SewAttempt {
+  double tol = 0.0;
+  std::unique_ptr<BRepBuilderAPI_Sewing> sew;
+  TopoDS_Shape sewn;
+  Counts counts;
+  bool usable = false;
+};
+
+// Sew at the base tolerance; while free edges remain, try tenfold larger ones up to
+// sew_max_rel_tol (see ReadOptions), each on the ShapeFix result. A tolerance is tried
+// only below a tenth of the shortest edge, so no real edge collapses.
+std::vector<SewAttempt> sew_attempts(const CadRead& cr, const ReadOptions& opt, double diag) {
+  std::vector<SewAttempt> tries;
+  const double max_tol = std::max(opt.sew_rel_tol, opt.sew_max_rel_tol) * diag;
+  double shortest = -1.0;  // computed only if an escalation is needed
+  for (double tol = opt.sew_rel_tol * diag; tol <= max_tol * (1 + 1e-9); tol *= 10) {
+    if (!tries.empty()) {
+      if (shortest < 0) shortest = shortest_edge_length(cr.shape);
+      if (tol > 0.1 * shortest) break;
+    }
+    SewAttempt t;
+    t.tol = tol;
+    t.sew = std::make_unique<BRepBuilderAPI_Sewing>(tol);
+    t.sew->Add(cr.shape);
+    t.sew->Perform();
+    t.sewn = t.sew->SewedShape();
+    if (!t.sewn.IsNull()) {
+      t.counts = count(t.sewn);
+      // Keep a result only when it closed gaps without losing faces or solids
+      // (sewing returns shells: solids of the input would be dissolved).
+      t.usable = t.counts.free_edges < cr.c0.free_edges && t.counts.faces >= cr.c0.faces &&
+                 t.counts.solids >= cr.c0.solids;
+    }
+    const bool done = t.usable && t.counts.free_edges == 0;
+    tries.push_back(std::move(t));
+    if (done) break;
+  }
+  return tries;
+}
+
+// The report line of the sewing attempts.
+std::string sewing_detail(const CadRead& cr, const std::vector<SewAttempt>& tries,
+                          const SewAttempt* best, const HealStep& h) {
+  const Counts& c0 = cr.c0;
+  std::ostringstream os;
+  os << "BRepBuilderAPI_Sewing";
+  for (const SewAttempt& t : tries) {
+    os << (&t == &tries.front() ? ", tolerance " : "; tolerance ") << t.tol << ": ";
+    if (t.sewn.IsNull()) {
+      os << "no shape";
+      continue;
+    }
+    os << "free edges " << c0.free_edges << "->" << t.counts.free_edges;
+    if (t.counts.faces < c0.faces || t.counts.solids < c0.solids)
+      os << " (would lose faces or solids)";
+    if (&t == best) os << " [kept]";
+  }
+  if (tries.size() == 1 && tries.front().sewn.IsNull())
+    return "sewing produced no shape (not kept)";
+  return os.str() + (best ? " -- " + counts_text(h) : " (not kept: no free edge closed)");
+}
+
+// 2b. Sewing: the attempt that closes the most free edges (the smallest tolerance among
+// equals) is kept.
+void heal_sewing(CadRead& cr, const ReadOptions& opt, ReadReport& report) {
+  cr.stage = "healing (sewing)";
+  const auto ts = Clock::now();
+  const double diag = diagonal(cr.shape);
+  const std::vector<SewAttempt> tries = sew_attempts(cr, opt, diag);
+  const SewAttempt* best = nullptr;
+  for (const SewAttempt& t : tries)
+    if (t.usable && (!best || t.counts.free_edges < best->counts.free_edges)) best = &t;
+  HealStep h = make_step("sewing", cr.c0, best ? best->counts : cr.c0);
+  h.applied = best != nullptr;
+  h.detail = sewing_detail(cr, tries, best, h);
+  if (best) {
+    cr.shape = best->sewn;
+    cr.c0 = best->counts;
+    const BRepBuilderAPI_Sewing& sew = *best->sew;
+    cr.names.follow([&](const TopoDS_Shape& s) {
+      return std::vector<TopoDS_Shape>{sew.IsModified(s) ? sew.Modified(s) : s};
+    });
+  }
+  h.seconds = seconds_since(ts);
+  report.healing.push_back(h);
+}
+
+// The general fuse of the solids `args`, in a TBB arena bounded by opt.threads; its
+// result with the `loose` shells and faces beside it, or null when it failed.
+TopoDS_Shape run_fuse(BRepAlgoAPI_BuilderAlgo& fuse, const TopTools_ListOfShape& args,
+                      const TopTools_ListOfShape& loose, const TopoDS_Shape& shape,
+                      const ReadOptions& opt) {
+  fuse.SetArguments(args);
+  fuse.SetRunParallel(opt.threads != 1 ? Standard_True : Standard_False);
+  fuse.SetNonDestructive(Standard_True);
+  // Fuzzy value: solids of an assembly touch within their tolerances, not exactly.
+  fuse.SetFuzzyValue(1e-7 * diagonal(shape));
+  if (opt.threads != 1) {
+    // OCC's parallel loops are TBB loops (Debian's OCCT is built with TBB): the arena
+    // bounds them by the requested thread count.
+    tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
+    arena.execute([&] { fuse.Build(); });
+  } else {
+    fuse.Build();
+  }
+  TopoDS_Shape out;
+  if (fuse.IsDone() && !fuse.HasErrors()) {
+    out = fuse.Shape();
+    if (!loose.IsEmpty()) {
+      TopoDS_Compound all;
+      BRep_Builder b;
+      b.MakeCompound(all);
+      b.Add(all, out);
+      for (const TopoDS_Shape& l : loose) b.Add(all, l);
+      out = all;
+    }
+  }
+  return out;
+}
+
+// 2c. Conforming assembly (general fuse of the solids), kept unless it opens a solid.
+void make_conforming(CadRead& cr, const ReadOptions& opt, ReadReport& report) {
+  cr.stage = "making the assembly conforming (general fuse)";
+  const auto ts = Clock::now();
+  // The solids are fused; the shells and faces that belong to no solid are kept as they
+  // are, next to the result (fusing the solids and returning the fuse's result alone
+  // dropped everything else: faces lost, the bounding box shrunk). They are not fused
+  // themselves: `conform` imprints touching solids on each other (what volume meshing
+  // needs); a surface crossing a solid is the model's, and is reported as such.
+  TopTools_ListOfShape args, loose;
+  collect_conform_pieces(cr.shape, args, loose);
+  BRepAlgoAPI_BuilderAlgo fuse;
+  const TopoDS_Shape out = run_fuse(fuse, args, loose, cr.shape, opt);
+  HealStep h;
+  const std::string pieces =
+      std::to_string(args.Extent()) + " solids" +
+      (loose.IsEmpty() ? std::string()
+                       : " (" + std::to_string(loose.Extent()) +
+                             " shells or faces outside them kept as they are)");
+  // The fuse must not open a solid: a closed solid must give a closed surface mesh. The
+  // fuse can "succeed" with alerts (intersection of a pair of shapes failed, unable to
+  // orient a shape) and return solids with free edges that the input did not have.
+  const int open_before = count_open_solids(cr.shape);
+  const int open_after = out.IsNull() ? 0 : count_open_solids(out);
+  if (!out.IsNull() && open_after <= open_before) {
+    const Counts c1 = count(out);
+    h = make_step("conform", cr.c0, c1);
+    h.applied = true;
+    h.detail = "general fuse of " + pieces + ": " + counts_text(h);
+    cr.shape = out;
+    cr.c0 = c1;
+    cr.names.follow([&](const TopoDS_Shape& s) {
+      std::vector<TopoDS_Shape> images;
+      for (const TopoDS_Shape& im : fuse.Modified(s)) images.push_back(im);
+      if (images.empty() && !fuse.IsDeleted(s)) images.push_back(s);
+      return images;
+    });
+  } else {
+    h = make_step("conform", cr.c0, cr.c0);
+    std::ostringstream os;
+    if (out.IsNull())
+      os << "general fuse of " << pieces << " failed";
+    else
+      os << "general fuse of " << pieces << " not kept: it would leave " << open_after
+         << " solid(s) with free edges, the input has " << open_before;
+    const std::string alerts = fuse_alerts(fuse);
+    if (!alerts.empty()) os << " (OCC alerts: " << alerts << ")";
+    os << "; the assembly is left non-conforming";
+    h.detail = os.str();
+    report.warnings.push_back(h.detail);
+  }
+  h.name = "conform";
+  h.seconds = seconds_since(ts);
+  report.healing.push_back(h);
+}
+
+// 3. Model.
+void build_model(CadRead& cr, const ReadOptions& opt, ReadResult& res) {
+  cr.stage = "building the model";
+  const auto tb = Clock::now();
+  geom::OccModelOptions mo;
+  mo.check_validity = opt.check_validity;
+  res.report.validity_checked = opt.check_validity;
+  res.model = geom::model_from_occ(cr.shape, mo);
+  cr.names.apply(cr.shape, res.model);
+  for (const geom::VertexSplit& v : res.model.vertex_splits)
+    res.report.warnings.push_back(v.reason);
+  res.report.build_seconds = seconds_since(tb);
+}
+
+// 4. Sanity of the result: coordinates that cannot be real. "" or the reason.
+std::string check_coordinates(const geom::Model& model, const ReadOptions& opt) {
+  for (std::size_t i = 0; i < model.vertices.size(); ++i) {
+    const geom::Vec3& p = model.vertices[i].p;
+    const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    if (!(m <= opt.max_abs_coordinate)) {
+      std::ostringstream os;
+      os << "vertex " << i << " has a coordinate of magnitude " << m << ", beyond "
+         << opt.max_abs_coordinate << " (corrupted coordinate?)";
+      return os.str();
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
@@ -467,25 +745,9 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
     res.error = path + ": " + what;
     return res;
   };
-
-  // 1. Text pre-scan: nothing malformed reaches OCC.
   const auto t0 = Clock::now();
-  PrescanOptions po;
-  po.max_abs_coordinate = opt.max_abs_coordinate;
-  po.allow_dangling_references = opt.allow_partial;
-  const PrescanResult pre = prescan_file(path, po);
-  const CadFormat ext = format_from_extension(path);
-  if (pre.content != CadFormat::Unknown && ext != CadFormat::Unknown && ext != pre.content &&
-      !opt.trust_content)
-    return fail("wrong extension: the name says " + std::string(to_string(ext)) +
-                " but the content is " + std::string(to_string(pre.content)) +
-                " (rename the file, or allow reading by content)");
-  if (!pre.ok) return fail(pre.error);
-  for (const std::string& w : pre.warnings) res.report.warnings.push_back(w);
-  if (ext != CadFormat::Unknown && ext != pre.content)
-    res.report.warnings.push_back("extension says " + std::string(to_string(ext)) + ", read as " +
-                                  std::string(to_string(pre.content)));
-
+  PrescanResult pre;
+  if (std::string e = prescan_step(path, opt, pre, res.report); !e.empty()) return fail(e);
   std::string requested_units;
   if (!opt.units.empty()) {
     requested_units = canonical_length_unit(opt.units);
@@ -496,251 +758,35 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
 
   std::lock_guard<std::mutex> lock(g_occ_mutex);
   prepare_occ(opt);
-  TopoDS_Shape shape;
+  CadRead cr;
   std::string units;
-  ShapeNames names;
-  std::string stage = "reading";
   try {
     OCC_CATCH_SIGNALS
     if (std::string e =
-            read_shape(path, pre.content, requested_units, shape, res.report, units, names);
+            read_shape(path, pre.content, requested_units, cr.shape, res.report, units, cr.names);
         !e.empty())
       return fail(e);
     res.report.read_seconds = seconds_since(t0);
-
-    Counts c0 = shape.IsNull() ? Counts{} : count(shape);
-    if (c0.faces == 0) {
-      if (pre.step_tessellated_faces > 0)
-        return fail("no B-rep faces: the file carries only tessellated geometry (" +
-                    std::to_string(pre.step_tessellated_faces) +
-                    " triangulated faces), nothing to mesh");
-      return fail(shape.IsNull() ? "no shape could be transferred from the file (empty result)"
-                                 : "the file contains no faces (empty or wire-only result)");
-    }
-
+    cr.c0 = cr.shape.IsNull() ? Counts{} : count(cr.shape);
+    if (cr.c0.faces == 0) return fail(no_faces_reason(pre, cr.shape));
     // 2. Healing.
     const auto th = Clock::now();
     if (opt.heal) {
-      stage = "healing (ShapeFix)";
-      {
-        const auto ts = Clock::now();
-        ShapeFix_Shape fix(shape);
-        fix.Perform();
-        const TopoDS_Shape fixed = fix.Shape();
-        const Counts c1 = count(fixed);
-        HealStep h = make_step("shapefix", c0, c1);
-        const bool changed = fix.Status(ShapeExtend_DONE) && !fixed.IsNull();
-        // Healing must not drop anything (DESIGN: nothing is dropped silently): a fix that
-        // loses faces or solids (ShapeFix can discard a solid whose shell it deems open)
-        // is reported and not kept.
-        const bool loses = c1.faces < c0.faces || c1.solids < c0.solids;
-        h.applied = changed && !loses;
-        h.detail = !changed ? "ShapeFix_Shape found nothing to fix"
-                   : loses
-                       ? "ShapeFix_Shape result not kept, it would lose entities: " + counts_text(h)
-                       : "ShapeFix_Shape modified the shape: " + counts_text(h);
-        if (changed && loses) res.report.warnings.push_back(h.detail);
-        if (h.applied) {
-          shape = fixed;
-          c0 = c1;
-          const Handle(ShapeBuild_ReShape) ctx = fix.Context();
-          if (!ctx.IsNull())
-            names.follow([&](const TopoDS_Shape& s) {
-              const TopoDS_Shape v = ctx->Value(s);
-              return v.IsNull() ? std::vector<TopoDS_Shape>{} : std::vector<TopoDS_Shape>{v};
-            });
-        }
-        h.seconds = seconds_since(ts);
-        res.report.healing.push_back(h);
-      }
-      if (c0.free_edges > 0 && c0.faces > 1) {
-        stage = "healing (sewing)";
-        const auto ts = Clock::now();
-        const double diag = diagonal(shape);
-        // Sew at the base tolerance; while free edges remain, try tenfold larger ones up
-        // to sew_max_rel_tol (see ReadOptions), each on the ShapeFix result, and keep the
-        // attempt that closes the most (the smallest tolerance among equals). A tolerance
-        // is tried only below a tenth of the shortest edge, so no real edge collapses.
-        struct Attempt {
-          double tol = 0.0;
-          std::unique_ptr<BRepBuilderAPI_Sewing> sew;
-          TopoDS_Shape sewn;
-          Counts counts;
-          bool usable = false;
-        };
-        std::vector<Attempt> tries;
-        const double max_tol = std::max(opt.sew_rel_tol, opt.sew_max_rel_tol) * diag;
-        double shortest = -1.0;  // computed only if an escalation is needed
-        for (double tol = opt.sew_rel_tol * diag; tol <= max_tol * (1 + 1e-9); tol *= 10) {
-          if (!tries.empty()) {
-            if (shortest < 0) shortest = shortest_edge_length(shape);
-            if (tol > 0.1 * shortest) break;
-          }
-          Attempt t;
-          t.tol = tol;
-          t.sew = std::make_unique<BRepBuilderAPI_Sewing>(tol);
-          t.sew->Add(shape);
-          t.sew->Perform();
-          t.sewn = t.sew->SewedShape();
-          if (!t.sewn.IsNull()) {
-            t.counts = count(t.sewn);
-            // Keep a result only when it closed gaps without losing faces or solids
-            // (sewing returns shells: solids of the input would be dissolved).
-            t.usable = t.counts.free_edges < c0.free_edges && t.counts.faces >= c0.faces &&
-                       t.counts.solids >= c0.solids;
-          }
-          const bool done = t.usable && t.counts.free_edges == 0;
-          tries.push_back(std::move(t));
-          if (done) break;
-        }
-        const Attempt* best = nullptr;
-        for (const Attempt& t : tries)
-          if (t.usable && (!best || t.counts.free_edges < best->counts.free_edges)) best = &t;
-        HealStep h = make_step("sewing", c0, best ? best->counts : c0);
-        h.applied = best != nullptr;
-        std::ostringstream os;
-        os << "BRepBuilderAPI_Sewing";
-        for (const Attempt& t : tries) {
-          os << (&t == &tries.front() ? ", tolerance " : "; tolerance ") << t.tol << ": ";
-          if (t.sewn.IsNull()) {
-            os << "no shape";
-            continue;
-          }
-          os << "free edges " << c0.free_edges << "->" << t.counts.free_edges;
-          if (t.counts.faces < c0.faces || t.counts.solids < c0.solids)
-            os << " (would lose faces or solids)";
-          if (&t == best) os << " [kept]";
-        }
-        if (tries.size() == 1 && tries.front().sewn.IsNull())
-          h.detail = "sewing produced no shape (not kept)";
-        else
-          h.detail =
-              os.str() + (best ? " -- " + counts_text(h) : " (not kept: no free edge closed)");
-        if (best) {
-          shape = best->sewn;
-          c0 = best->counts;
-          const BRepBuilderAPI_Sewing& sew = *best->sew;
-          names.follow([&](const TopoDS_Shape& s) {
-            return std::vector<TopoDS_Shape>{sew.IsModified(s) ? sew.Modified(s) : s};
-          });
-        }
-        h.seconds = seconds_since(ts);
-        res.report.healing.push_back(h);
-      }
+      heal_shapefix(cr, res.report);
+      if (cr.c0.free_edges > 0 && cr.c0.faces > 1) heal_sewing(cr, opt, res.report);
     }
-    if (opt.conform && c0.solids > 1) {
-      stage = "making the assembly conforming (general fuse)";
-      const auto ts = Clock::now();
-      // The solids are fused; the shells and faces that belong to no solid are kept as they
-      // are, next to the result. Fusing the solids and returning the fuse's result alone
-      // dropped everything else: occt_caxif_k1 (5 solids, 9 open shells, 4 loose faces) lost
-      // 50 of its 94 faces, and its bounding box shrank from 52.6 to 35.7 cm. They are not
-      // fused themselves: `conform` imprints touching solids on each other (what volume
-      // meshing needs); a surface crossing a solid is the model's, and is reported as such.
-      TopTools_ListOfShape args, loose;
-      collect_conform_pieces(shape, args, loose);
-      BRepAlgoAPI_BuilderAlgo fuse;
-      fuse.SetArguments(args);
-      fuse.SetRunParallel(opt.threads != 1 ? Standard_True : Standard_False);
-      fuse.SetNonDestructive(Standard_True);
-      // Fuzzy value: solids of an assembly touch within their tolerances, not exactly.
-      fuse.SetFuzzyValue(1e-7 * diagonal(shape));
-      if (opt.threads != 1) {
-        // OCC's parallel loops are TBB loops (Debian's OCCT is built with TBB): the arena
-        // bounds them by the requested thread count.
-        tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
-        arena.execute([&] { fuse.Build(); });
-      } else {
-        fuse.Build();
-      }
-      HealStep h;
-      const std::string pieces =
-          std::to_string(args.Extent()) + " solids" +
-          (loose.IsEmpty() ? std::string()
-                           : " (" + std::to_string(loose.Extent()) +
-                                 " shells or faces outside them kept as they are)");
-      TopoDS_Shape out;
-      if (fuse.IsDone() && !fuse.HasErrors()) {
-        out = fuse.Shape();
-        if (!loose.IsEmpty()) {
-          TopoDS_Compound all;
-          BRep_Builder b;
-          b.MakeCompound(all);
-          b.Add(all, out);
-          for (const TopoDS_Shape& l : loose) b.Add(all, l);
-          out = all;
-        }
-      }
-      // The fuse must not open a solid: a closed solid must give a closed surface mesh. On
-      // occt_caxif_k1 the fuse "succeeds" with alerts (intersection of a pair of shapes
-      // failed, unable to orient a shape) and returns two solids with three free edges
-      // each, that the input did not have, plus a 2-face solid of volume 2e-6 mm^3.
-      const int open_before = count_open_solids(shape);
-      const int open_after = out.IsNull() ? 0 : count_open_solids(out);
-      if (!out.IsNull() && open_after <= open_before) {
-        const Counts c1 = count(out);
-        h = make_step("conform", c0, c1);
-        h.applied = true;
-        h.detail = "general fuse of " + pieces + ": " + counts_text(h);
-        shape = out;
-        c0 = c1;
-        names.follow([&](const TopoDS_Shape& s) {
-          std::vector<TopoDS_Shape> images;
-          for (const TopoDS_Shape& im : fuse.Modified(s)) images.push_back(im);
-          if (images.empty() && !fuse.IsDeleted(s)) images.push_back(s);
-          return images;
-        });
-      } else {
-        h = make_step("conform", c0, c0);
-        std::ostringstream os;
-        if (out.IsNull())
-          os << "general fuse of " << pieces << " failed";
-        else
-          os << "general fuse of " << pieces << " not kept: it would leave " << open_after
-             << " solid(s) with free edges, the input has " << open_before;
-        const std::string alerts = fuse_alerts(fuse);
-        if (!alerts.empty()) os << " (OCC alerts: " << alerts << ")";
-        os << "; the assembly is left non-conforming";
-        h.detail = os.str();
-        res.report.warnings.push_back(h.detail);
-      }
-      h.name = "conform";
-      h.seconds = seconds_since(ts);
-      res.report.healing.push_back(h);
-    }
+    if (opt.conform && cr.c0.solids > 1) make_conforming(cr, opt, res.report);
     res.report.heal_seconds = seconds_since(th);
-
-    // 3. Model.
-    stage = "building the model";
-    const auto tb = Clock::now();
-    geom::OccModelOptions mo;
-    mo.check_validity = opt.check_validity;
-    res.report.validity_checked = opt.check_validity;
-    res.model = geom::model_from_occ(shape, mo);
-    names.apply(shape, res.model);
-    for (const geom::VertexSplit& v : res.model.vertex_splits)
-      res.report.warnings.push_back(v.reason);
-    res.report.build_seconds = seconds_since(tb);
+    build_model(cr, opt, res);
   } catch (const Standard_Failure& f) {
-    return fail("OpenCASCADE failed while " + stage + ": " + occ_message(f));
+    return fail("OpenCASCADE failed while " + cr.stage + ": " + occ_message(f));
   } catch (const std::exception& e) {
-    return fail(std::string("failed while ") + stage + ": " + e.what());
+    return fail(std::string("failed while ") + cr.stage + ": " + e.what());
   }
   res.model.source = path;
   res.model.format = res.report.format;
   res.model.units = units;  // the file's unit unless another was requested; "" for BREP
-
-  // 4. Sanity of the result: coordinates that cannot be real.
-  for (std::size_t i = 0; i < res.model.vertices.size(); ++i) {
-    const geom::Vec3& p = res.model.vertices[i].p;
-    const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    if (!(m <= opt.max_abs_coordinate)) {
-      std::ostringstream os;
-      os << "vertex " << i << " has a coordinate of magnitude " << m << ", beyond "
-         << opt.max_abs_coordinate << " (corrupted coordinate?)";
-      return fail(os.str());
-    }
-  }
+  if (std::string e = check_coordinates(res.model, opt); !e.empty()) return fail(e);
   res.ok = true;
   return res;
 }

@@ -57,6 +57,168 @@ std::string fmt_num(double v) {
 }
 
 // ---------------------------------------------------------------------------- STEP
+
+// Accumulates one statement of t from i up to ';' outside strings and comments (strings
+// become a '' placeholder, line breaks are dropped); false when the text ends first.
+bool next_statement(std::string_view t, std::size_t& i, std::string& stmt) {
+  stmt.clear();
+  while (i < t.size()) {
+    const char c = t[i];
+    if (c == '\'') {  // string, '' is an escaped quote
+      std::size_t j = i + 1;
+      while (j < t.size()) {
+        if (t[j] == '\'') {
+          if (j + 1 < t.size() && t[j + 1] == '\'') {
+            j += 2;
+            continue;
+          }
+          break;
+        }
+        ++j;
+      }
+      stmt += "''";  // keep a placeholder, drop the content
+      i = j + 1;
+      continue;
+    }
+    if (c == '/' && i + 1 < t.size() && t[i + 1] == '*') {
+      const std::size_t j = t.find("*/", i + 2);
+      i = (j == std::string_view::npos) ? t.size() : j + 2;
+      continue;
+    }
+    ++i;
+    if (c == ';') return true;
+    if (c != '\n' && c != '\r') stmt += c;
+  }
+  return false;
+}
+
+// A word at s[j..] (letters, digits, '_' and, with dash, '-'); returns its end.
+std::size_t word_end(std::string_view s, std::size_t j, bool dash) {
+  std::size_t m = j;
+  while (m < s.size() &&
+         (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_' || (dash && s[m] == '-')))
+    ++m;
+  return m;
+}
+
+// The parameters of entity #id (s from its '=' at eq): references go to refs; numbers
+// must be finite, and a CARTESIAN_POINT's within the accepted magnitude. "" or the error.
+std::string scan_step_parameters(std::string_view s, std::size_t eq, long long id, bool point,
+                                 const PrescanOptions& opt,
+                                 std::vector<std::pair<long long, long long>>& refs) {
+  for (std::size_t j = eq + 1; j < s.size();) {
+    const char c = s[j];
+    if (c == '#') {
+      long long ref = 0;
+      std::size_t m = j + 1;
+      while (m < s.size() && std::isdigit(static_cast<unsigned char>(s[m])))
+        ref = ref * 10 + (s[m++] - '0');
+      if (m > j + 1) refs.emplace_back(id, ref);
+      j = m;
+    } else if (c == '.') {  // enumeration .NAME. or a number like .5
+      if (j + 1 < s.size() && std::isalpha(static_cast<unsigned char>(s[j + 1]))) {
+        const std::size_t m = s.find('.', j + 1);
+        j = (m == std::string_view::npos) ? s.size() : m + 1;
+      } else {
+        double v = 0;
+        bool of = false;
+        const std::size_t n = parse_number(s, j, v, of);
+        j += std::max<std::size_t>(n, 1);
+      }
+    } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+') {
+      double v = 0;
+      bool of = false;
+      const std::size_t n = parse_number(s, j, v, of);
+      if (n == 0) {
+        // A sign before a word: "-NaN", "+INF".
+        const std::size_t m = word_end(s, j + 1, false);
+        if (is_nonfinite_word(s.substr(j, m - j)))
+          return "entity #" + std::to_string(id) + " has a non-finite number '" +
+                 std::string(s.substr(j, m - j)) + "'";
+        j = m;
+        continue;
+      }
+      if (of)
+        return "entity #" + std::to_string(id) + " has a number that overflows a double ('" +
+               std::string(s.substr(j, n)) + "')";
+      if (point && std::abs(v) > opt.max_abs_coordinate)
+        return "CARTESIAN_POINT #" + std::to_string(id) + " has coordinate " + fmt_num(v) +
+               ", beyond the accepted magnitude " + fmt_num(opt.max_abs_coordinate) +
+               " (corrupted coordinate?)";
+      j += n;
+    } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+      const std::size_t m = word_end(s, j, true);
+      std::size_t after = m;
+      while (after < s.size() && s[after] == ' ') ++after;
+      const bool is_type = after < s.size() && s[after] == '(';
+      if (!is_type && is_nonfinite_word(s.substr(j, m - j)))
+        return "entity #" + std::to_string(id) + " has a non-finite number '" +
+               std::string(s.substr(j, m - j)) + "'";
+      j = m;
+    } else {
+      ++j;
+    }
+  }
+  return {};
+}
+
+// What the STEP scan keeps across statements.
+struct StepScan {
+  std::unordered_set<long long> defined;
+  std::vector<std::pair<long long, long long>> refs;  // (from entity, to entity)
+};
+
+// One entity statement s ("#id = ..."): counted, its parameters scanned. "" or the error.
+std::string scan_step_entity(std::string_view s, const PrescanOptions& opt, StepScan& st,
+                             PrescanResult& r) {
+  // Defined id.
+  std::size_t k = 1;
+  long long id = 0;
+  while (k < s.size() && std::isdigit(static_cast<unsigned char>(s[k])))
+    id = id * 10 + (s[k++] - '0');
+  st.defined.insert(id);
+  ++r.step_entities;
+  const bool point = s.find("CARTESIAN_POINT") != std::string_view::npos;
+  if (s.find("ADVANCED_FACE") != std::string_view::npos ||
+      s.find("FACE_SURFACE") != std::string_view::npos)
+    ++r.step_brep_faces;
+  if (s.find("TRIANGULATED_FACE") != std::string_view::npos ||
+      s.find("TESSELLATED_FACE") != std::string_view::npos)
+    ++r.step_tessellated_faces;
+  // Parameters: references, numbers, stray words.
+  const std::size_t eq = s.find('=', k);
+  if (eq == std::string_view::npos) {
+    ++r.malformed_statements;
+    if (r.warnings.size() < 5)
+      r.warnings.push_back("malformed STEP entity #" + std::to_string(id) + " (no '=')");
+    return {};
+  }
+  return scan_step_parameters(s, eq, id, point, opt, st.refs);
+}
+
+// A reference to an entity that is defined nowhere. In an otherwise well-formed file
+// that is an inconsistency OCC would paper over by dropping faces silently: an error.
+// When statements were garbled, dangling references are the visible consequence of
+// that damage: the import goes on (OCC skips what it cannot resolve) and says so.
+std::string check_dangling(const StepScan& st, const PrescanOptions& opt, PrescanResult& r) {
+  int dangling = 0;
+  std::string first;
+  for (const auto& [from, to] : st.refs)
+    if (!st.defined.count(to)) {
+      if (dangling++ == 0)
+        first = "entity #" + std::to_string(from) + " references #" + std::to_string(to) +
+                ", which is not defined";
+    }
+  r.dangling_references = dangling;
+  if (dangling > 0) {
+    if (r.malformed_statements == 0 && !opt.allow_dangling_references)
+      return "dangling reference: " + first;
+    r.warnings.push_back(std::to_string(dangling) + " dangling references (first: " + first +
+                         "); what depends on them is not imported");
+  }
+  return {};
+}
+
 PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
   PrescanResult r;
   r.content = CadFormat::Step;
@@ -65,8 +227,7 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
     r.error = "STEP file has no DATA section";
     return r;
   }
-  std::unordered_set<long long> defined;
-  std::vector<std::pair<long long, long long>> refs;  // (from entity, to entity)
+  StepScan st;
   std::string stmt;
   bool ended = false;
   std::size_t i = data + 5;
@@ -76,39 +237,7 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
     return r;
   };
   while (i < t.size()) {
-    // Accumulate one statement up to ';' outside strings and comments.
-    stmt.clear();
-    bool closed = false;
-    while (i < t.size()) {
-      const char c = t[i];
-      if (c == '\'') {  // string, '' is an escaped quote
-        std::size_t j = i + 1;
-        while (j < t.size()) {
-          if (t[j] == '\'') {
-            if (j + 1 < t.size() && t[j + 1] == '\'') {
-              j += 2;
-              continue;
-            }
-            break;
-          }
-          ++j;
-        }
-        stmt += "''";  // keep a placeholder, drop the content
-        i = j + 1;
-        continue;
-      }
-      if (c == '/' && i + 1 < t.size() && t[i + 1] == '*') {
-        const std::size_t j = t.find("*/", i + 2);
-        i = (j == std::string_view::npos) ? t.size() : j + 2;
-        continue;
-      }
-      ++i;
-      if (c == ';') {
-        closed = true;
-        break;
-      }
-      if (c != '\n' && c != '\r') stmt += c;
-    }
+    const bool closed = next_statement(t, i, stmt);
     // Trim.
     const auto b = stmt.find_first_not_of(" \t");
     if (b == std::string::npos) {
@@ -135,109 +264,12 @@ PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
                              "'");
       continue;
     }
-    // Defined id.
-    std::size_t k = 1;
-    long long id = 0;
-    while (k < s.size() && std::isdigit(static_cast<unsigned char>(s[k])))
-      id = id * 10 + (s[k++] - '0');
-    defined.insert(id);
-    ++r.step_entities;
-    const bool point = s.find("CARTESIAN_POINT") != std::string_view::npos;
-    if (s.find("ADVANCED_FACE") != std::string_view::npos ||
-        s.find("FACE_SURFACE") != std::string_view::npos)
-      ++r.step_brep_faces;
-    if (s.find("TRIANGULATED_FACE") != std::string_view::npos ||
-        s.find("TESSELLATED_FACE") != std::string_view::npos)
-      ++r.step_tessellated_faces;
-    // Parameters: references, numbers, stray words.
-    const std::size_t eq = s.find('=', k);
-    if (eq == std::string_view::npos) {
-      ++r.malformed_statements;
-      if (r.warnings.size() < 5)
-        r.warnings.push_back("malformed STEP entity #" + std::to_string(id) + " (no '=')");
-      continue;
-    }
-    for (std::size_t j = eq + 1; j < s.size();) {
-      const char c = s[j];
-      if (c == '#') {
-        long long ref = 0;
-        std::size_t m = j + 1;
-        while (m < s.size() && std::isdigit(static_cast<unsigned char>(s[m])))
-          ref = ref * 10 + (s[m++] - '0');
-        if (m > j + 1) refs.emplace_back(id, ref);
-        j = m;
-      } else if (c == '.') {  // enumeration .NAME. or a number like .5
-        if (j + 1 < s.size() && std::isalpha(static_cast<unsigned char>(s[j + 1]))) {
-          const std::size_t m = s.find('.', j + 1);
-          j = (m == std::string_view::npos) ? s.size() : m + 1;
-        } else {
-          double v = 0;
-          bool of = false;
-          const std::size_t n = parse_number(s, j, v, of);
-          j += std::max<std::size_t>(n, 1);
-        }
-      } else if (std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '+') {
-        double v = 0;
-        bool of = false;
-        const std::size_t n = parse_number(s, j, v, of);
-        if (n == 0) {
-          // A sign before a word: "-NaN", "+INF".
-          std::size_t m = j + 1;
-          while (m < s.size() && (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_'))
-            ++m;
-          if (is_nonfinite_word(s.substr(j, m - j)))
-            return fail("entity #" + std::to_string(id) + " has a non-finite number '" +
-                        std::string(s.substr(j, m - j)) + "'");
-          j = m;
-          continue;
-        }
-        if (of)
-          return fail("entity #" + std::to_string(id) + " has a number that overflows a double ('" +
-                      std::string(s.substr(j, n)) + "')");
-        if (point && std::abs(v) > opt.max_abs_coordinate)
-          return fail("CARTESIAN_POINT #" + std::to_string(id) + " has coordinate " + fmt_num(v) +
-                      ", beyond the accepted magnitude " + fmt_num(opt.max_abs_coordinate) +
-                      " (corrupted coordinate?)");
-        j += n;
-      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
-        std::size_t m = j;
-        while (m < s.size() &&
-               (std::isalnum(static_cast<unsigned char>(s[m])) || s[m] == '_' || s[m] == '-'))
-          ++m;
-        std::size_t after = m;
-        while (after < s.size() && s[after] == ' ') ++after;
-        const bool is_type = after < s.size() && s[after] == '(';
-        if (!is_type && is_nonfinite_word(s.substr(j, m - j)))
-          return fail("entity #" + std::to_string(id) + " has a non-finite number '" +
-                      std::string(s.substr(j, m - j)) + "'");
-        j = m;
-      } else {
-        ++j;
-      }
-    }
+    if (std::string e = scan_step_entity(s, opt, st, r); !e.empty()) return fail(e);
   }
   if (!ended)
     return fail("truncated: no END-ISO-10303-21; after the DATA section (" +
                 std::to_string(r.step_entities) + " entities read)");
-  // A reference to an entity that is defined nowhere. In an otherwise well-formed file
-  // that is an inconsistency OCC would paper over by dropping faces silently: an error.
-  // When statements were garbled, dangling references are the visible consequence of
-  // that damage: the import goes on (OCC skips what it cannot resolve) and says so.
-  int dangling = 0;
-  std::string first;
-  for (const auto& [from, to] : refs)
-    if (!defined.count(to)) {
-      if (dangling++ == 0)
-        first = "entity #" + std::to_string(from) + " references #" + std::to_string(to) +
-                ", which is not defined";
-    }
-  r.dangling_references = dangling;
-  if (dangling > 0) {
-    if (r.malformed_statements == 0 && !opt.allow_dangling_references)
-      return fail("dangling reference: " + first);
-    r.warnings.push_back(std::to_string(dangling) + " dangling references (first: " + first +
-                         "); what depends on them is not imported");
-  }
+  if (std::string e = check_dangling(st, opt, r); !e.empty()) return fail(e);
   r.ok = true;
   return r;
 }

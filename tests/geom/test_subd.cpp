@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "fd_check.h"
+#include "subd_patch.h"  // private to geom: SubdPatch, the patch domains
 #include "uvmesh/geom/subd.h"
 
 using namespace uvmesh;
@@ -217,7 +218,7 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
     CHECK(r.scheme ==
           (name.rfind("loop", 0) == 0 ? geom::SubdScheme::Loop : geom::SubdScheme::CatmullClark));
     REQUIRE(!m.faces.empty());
-    CHECK(r.patches.size() == m.faces.size());
+    CHECK(r.patches->size() == m.faces.size());
     const double D = m.bbox.diagonal();
     REQUIRE(D > 0);
     const bool loop = r.scheme == geom::SubdScheme::Loop;
@@ -228,7 +229,7 @@ TEST_CASE("subd model: every corpus cage, patches and shared boundaries", "[geom
     for (std::size_t f = 0; f < m.faces.size();
          f += std::max<std::size_t>(1, m.faces.size() / 60)) {
       const geom::Surface& s = *m.faces[f].surface;
-      const geom::SubdPatch& P = r.patches[f];
+      const geom::SubdPatch& P = (*r.patches)[f];
       for (int k = 0; k < 6; ++k) {
         double u = U(rng), v = U(rng);
         if (loop && u + v > 0.96) u *= 0.5, v *= 0.5;
@@ -322,8 +323,8 @@ TEST_CASE("subd model: a Catmull-Clark n-gon is one patch on its flattened limit
   CHECK(r.model.faces.size() == 128);
   int ngons = 0;
   double gap = 0, back = 0;
-  for (std::size_t f = 0; f < r.patches.size(); ++f) {
-    const geom::SubdPatch& P = r.patches[f];
+  for (std::size_t f = 0; f < r.patches->size(); ++f) {
+    const geom::SubdPatch& P = (*r.patches)[f];
     if (P.face_size != 3) continue;
     ++ngons;
     REQUIRE(P.polygon.size() == 6);
@@ -381,8 +382,8 @@ TEST_CASE(
   REQUIRE(r.ok);
   int projected = 0;
   double worst_new = 0, worst_old = 0, back = 0;
-  for (std::size_t f = 0; f < r.patches.size(); ++f) {
-    const geom::SubdPatch& P = r.patches[f];
+  for (std::size_t f = 0; f < r.patches->size(); ++f) {
+    const geom::SubdPatch& P = (*r.patches)[f];
     if (P.face_size != 3) {
       CHECK(!P.unprojected);  // quads at valence-4 vertices keep OpenSubdiv's domain
       continue;

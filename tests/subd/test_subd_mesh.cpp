@@ -20,6 +20,7 @@
 #include <set>
 #include <string>
 
+#include "subd_patch.h"  // private to geom: SubdPatch, the patch domains
 #include "uvmesh/geom/subd.h"
 #include "uvmesh/io/mesh_writer.h"
 #include "uvmesh/surface/check3d.h"
@@ -54,7 +55,7 @@ const std::vector<Case> kCases = {
 // square, or every quad of an n-gon patch's polygon, mapped to the patch's domain),
 // appended to `out` as triangles.
 void dense_patch(const geom::SubdModelResult& sr, geom::Id f, int n, surface::SurfaceMesh& out) {
-  const geom::SubdPatch& P = sr.patches[static_cast<std::size_t>(f)];
+  const geom::SubdPatch& P = (*sr.patches)[static_cast<std::size_t>(f)];
   const geom::Surface& s = *sr.model.faces[static_cast<std::size_t>(f)].surface;
   const int quads = P.polygon.empty() ? 1 : P.face_size;
   for (int q = 0; q < quads; ++q) {

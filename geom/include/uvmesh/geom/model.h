@@ -147,8 +147,8 @@ std::vector<std::vector<Id>> edge_faces(const Model& m);
 
 /// An edge whose two ends are one vertex although its curve's ends are farther apart
 /// than the edge's own tolerance is open: the file merged two distinct points into one
-/// vertex and gave it a tolerance that covers both (occt_caxif_k1: 1 mm edges closed by a
-/// vertex of tolerance 1 mm). Meshed as it is, that edge's last node is its first one,
+/// vertex and gave it a tolerance that covers both (e.g. 1 mm edges closed by a vertex of
+/// tolerance 1 mm). Meshed as it is, that edge's last node is its first one,
 /// and the edges and faces that really end at its other end are pulled to the vertex:
 /// the faces fold there. Such a vertex is split: the two ends of each of these edges are
 /// the seeds of separate vertices, every other edge end at the vertex goes to the seed

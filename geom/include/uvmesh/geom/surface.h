@@ -5,7 +5,7 @@
 //   geom::SurfacePoint e = s->eval(0.3, 0.2);  // e.p, e.du, e.dv, e.duu, e.duv, e.dvv
 //   bool pole = s->singular_sides() & geom::kSideVMin;       // true: south pole
 //
-// Contract (DESIGN.md "Contracts between stages"): every back end satisfies the same
+// Contract (docs/ARCHITECTURE.md "Contracts between stages"): every back end satisfies the same
 // tests (derivatives against finite differences, exact curvature on analytic kinds).
 // Thread safety: as for Curve, one object per thread (OCC keeps evaluation caches).
 #pragma once

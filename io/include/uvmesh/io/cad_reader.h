@@ -41,7 +41,7 @@ struct ReadOptions {
   /// after sewing at sew_rel_tol: the tolerance grows tenfold per attempt up to this
   /// value, and never beyond a tenth of the model's shortest edge (sewing at a tolerance
   /// near an edge's length merges that edge's ends). Some exports leave gaps of ~1e-5 of
-  /// the diagonal between faces that meet (gmsh_t106_blade, occt_hammer); meshing such a
+  /// the diagonal between faces that meet; meshing such a
   /// model unsewn gives two independent discretizations of one curve, whose chords cross
   /// each other: self-intersections. 1e-4 is a tenth of the default hmin (D/1000), a gap
   /// no mesh at these sizes can represent. Set it to sew_rel_tol to sew only once.
@@ -54,8 +54,8 @@ struct ReadOptions {
   /// cores) or more: OCC's parallel mode (the interferences of independent pairs of
   /// sub-shapes computed concurrently, then merged in a fixed order, so the result does not
   /// depend on the thread count: the determinism test compares the meshes byte for byte),
-  /// run inside a TBB arena of that many threads. On caxif_as1_assembly the fuse is 85% of
-  /// a 1-thread run.
+  /// run inside a TBB arena of that many threads. On a large assembly the fuse is most of a
+  /// 1-thread run.
   int threads = 1;
   /// Run BRepCheck per face (geom::Face::valid).
   bool check_validity = true;
