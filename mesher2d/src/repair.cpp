@@ -73,7 +73,7 @@ bool Optimizer::try_collapse(TriId t) {
   std::sort(order.begin(), order.end());
   for (const auto& [len, i] : order) {
     const VertId e0 = ms.tri.vertex(t, detail::next3(i)), e1 = ms.tri.vertex(t, detail::prev3(i));
-    for (const auto [v, u] : {std::pair{e0, e1}, std::pair{e1, e0}})
+    for (const auto& [v, u] : {std::pair{e0, e1}, std::pair{e1, e0}})
       if (collapse_into(v, u, 0, false)) return true;
   }
   return false;

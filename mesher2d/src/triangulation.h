@@ -309,6 +309,9 @@ class HullDelaunay {
 
  private:
   bool insert(VertId pv);
+  std::int32_t walk(Vec2 p, double* o) const;
+  bool grow_cavity(std::int32_t t, Vec2 p, std::size_t& nc, std::size_t& m);
+  bool make_ball(VertId pv, std::size_t nc, std::size_t m);
   bool conflict_slow(const Tri& r, Vec2 p) const;
   std::int32_t last_ = 0;  // a real triangle at the last inserted vertex: the walk's start
   struct NewTri {
