@@ -38,7 +38,8 @@ double EdgeSampler::sample(Vec2 a, Vec2 b, const Metric2& ma, const Metric2& mb,
     // evaluations: the field's lengths are interpolated on the pieces, divided by the
     // ratio, and pieces are split until each is short in the scaled metric too.
     const double lu = 0.5 * (len.front() * ra + len.back() * rb);
-    // ms.vm at the ends is already scaled: undo it so that all samples are field lengths.
+    // The metrics at the ends (ma, mb) are already scaled: undo it so that all samples are field
+    // lengths.
     len.front() *= ra;
     len.back() *= rb;
     for (int it = 0; it < 40; ++it) {

@@ -81,8 +81,8 @@ bool Enforcer::run(std::vector<std::int32_t>& work, bool split_crossings) {
       // Overlapping collinear segments, once split at each other's end points (the
       // ThroughVertex case below), give the same piece twice: it is kept once, as
       // Triangle keeps one subsegment. Two live records of one edge would each be split
-      // at unit length in discretize_boundary, the second with points rounded off the
-      // first one's chain (a constrained edge on no segment's chain: fuzz_poly_mesh2d).
+      // at unit length in split_boundary, the second with points rounded off the
+      // first one's chain (a constrained edge on no segment's chain).
       ms.segs[sid].alive = false;
       ++overlaps_merged;
       continue;

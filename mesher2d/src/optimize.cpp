@@ -132,7 +132,7 @@ std::int64_t Optimizer::smooth_pass() {
     // triangle on the opposite edge (§7.4.3 "optimal point"). Over a closed ring their
     // mean is the centroid of the ring (the rotated edge vectors sum to zero), i.e.
     // Laplacian smoothing in the metric frame of v. (Area-weighted circumcentres, the
-    // ODT rule, measured worse here: Q_M 1.59 against 1.50 on the square with a hole.)
+    // ODT rule, gave a worse Q_M here.)
     Vec2 target{0, 0};
     const Vec2 fv = iso_uniform_ ? pv : f(pv);
     for (std::size_t k = 0; k < n; ++k) {
@@ -266,9 +266,8 @@ void Optimizer::run() {
     return;
   }
   // A uniform field without the lattice (a thin domain) keeps the full passes; a varying
-  // field gets fewer global passes (measured on ring:1e-4,1e-2: 8 swap+smooth and 6
-  // max-min passes give the same quality after the repair and size passes below, Q_M
-  // 1.50 against 1.44, at twice the optimization time).
+  // field gets fewer global passes (more give about the same quality after the repair
+  // and size passes below, at twice the optimization time).
   multi_frame_ = !iso_uniform_;
   const int kval = iso_uniform_ ? 3 : 1,
             kpre = iso_uniform_ ? ms.opt.optimize_passes : std::min(2, ms.opt.optimize_passes),
@@ -295,8 +294,8 @@ void Optimizer::run() {
   // Max-min relocation and the targeted repair judge each ball triangle in the mean
   // of its vertex metrics (multi_frame_), as the measure does.
   multi_frame_ = !iso_uniform_;
-  // Max-min relocation stops at Q_K = 1.3 for a varying field (1.15 measured the same
-  // quality after the repair on ring:1e-4,0.01, Q_M 1.51 against 1.53, 13% slower).
+  // Max-min relocation stops at Q_K = 1.3 for a varying field (1.15 gives the same
+  // quality after the repair, more slowly).
   const double qs = iso_uniform_ ? kMaxminStop : kMaxminStopVarying;
   for (int pass = 0; pass < kmm; ++pass) {
     const std::int64_t r = maxmin_pass(qs, 8);
@@ -311,8 +310,7 @@ void Optimizer::run() {
   }
   // Size, then shape (§7.5.2): two size passes, each followed by max-min relocation
   // and swaps, then the repair of the triangles still worse than Q 1.4. (A repair
-  // before and after every size pass measured the same quality for 13% more work on
-  // ring:1e-4,0.01.)
+  // before and after every size pass gives the same quality for more work.)
   for (int pass = 0; pass < 2; ++pass) {
     if (ms.over_time("optimization")) return;
     const std::int64_t c = size_pass(kSizeFloor);

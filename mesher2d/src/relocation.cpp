@@ -135,8 +135,8 @@ double Optimizer::maxmin_core(Vec2& p, double qstop, int iters, const MetricFram
 
 // Relocation by descent of F = sum over the ball of Q_K^p (p = kPnorm): smooth where
 // the max-min is not, so that a sweep over a neighbourhood unpins vertices whose worst
-// triangles hold each other at a kink of the max-min (measured at the corners of the
-// square: Q_M stayed at 1.2005 after max-min sweeps). Same frame and validity as
+// triangles hold each other at a kink of the max-min (at the corners of a square Q_M
+// stayed just above 1.2 after max-min sweeps alone). Same frame and validity as
 // maxmin_core; returns true when p moved.
 bool Optimizer::pnorm_core(Vec2& p, const MetricFrame& vf, const std::vector<VertId>& vring) {
   constexpr double kPnorm = 8;  // the power in term below
@@ -245,9 +245,9 @@ void Optimizer::load_ring(const detail::MetricFrame& f, const std::vector<VertId
   if (!multi_frame_) return;
   // Each ball triangle in its own frame, that of the mean of its vertex metrics (as
   // tri_q and the measure judge it): one frame for the whole ball misjudges a metric
-  // that turns or grades across it (ring: 2.3 degrees and 4% in size per element at
-  // the layer). The map from the ball's frame f to triangle k's frame R_k is R_k f^-1,
-  // upper triangular like both.
+  // that turns or grades across it (a ring-shaped boundary layer turns by degrees and
+  // grades by percent from element to element). The map from the ball's frame f to triangle k's
+  // frame R_k is R_k f^-1, upper triangular like both.
   bt_.resize(n);
   const auto& P = ms.tri.points();
   for (std::size_t k = 0; k < n; ++k) {

@@ -133,8 +133,8 @@ bool Optimizer::collapse_into(VertId v, VertId u, double floor, bool size_check)
         const Vec2 mid{0.5 * (P[u].x + P[v].x), 0.5 * (P[u].y + P[v].y)};
         double best = -1;
         Vec2 bp{};
-        // A varying field starts from the midpoint only (the ends as starts cost 8% of
-        // the whole run on ring:1e-4,0.01 for the same quality).
+        // A varying field starts from the midpoint only (the ends as starts cost time
+        // on a strongly anisotropic field for the same quality).
         const int starts = iso_uniform_ ? 3 : 1;
         int ns = 0;
         for (const Vec2 s0 : {mid, P[u], P[v]}) {
@@ -337,8 +337,7 @@ std::vector<VertId> Optimizer::targeted_pass(double qstop, int rounds) {
     if (moved == 0 && swaps == 0) break;
     // Every triangle that changed or stayed bad lies in a ball of a handled vertex:
     // rescanning those balls finds what a scan of the mesh would, in the same order
-    // (by triangle id; another order measured worse: a corner of the square at h =
-    // 0.02 stayed at Q = 1.202).
+    // (by triangle id; another order left worse triangles at the corners of a square).
     bad_in_balls(handled, qstop, bad);
     std::sort(bad.begin(), bad.end());
   }
@@ -406,8 +405,8 @@ void Optimizer::repair(double qbad, int rounds, const std::vector<VertId>* first
         const double before = region_min();
         bool any = false;
         // Not for a varying field: there the sweeps cost a third of the optimization
-        // and the repair ends better without them (ring:1e-4,0.01: Q_M 1.45 against
-        // 1.78 with three sweeps; the restore rule below is judged per triangle frame).
+        // and the repair ends better without them (the restore rule below is judged per
+        // triangle frame, which the sweeps' single frame misjudges).
         const int sweeps = iso_uniform_ ? 3 : 0;
         for (int sweep = 0; sweep < sweeps; ++sweep)
           for (const auto& [w, pw] : saved_) any |= pnorm_relocate(w, ring);
@@ -431,7 +430,7 @@ void Optimizer::repair(double qbad, int rounds, const std::vector<VertId>* first
       // A varying field's triangle whose three vertices are all on the boundary lies
       // where the domain is narrower than the field's size (CAD faces: the last
       // micrometres of a tangential contact); a split only puts an interior vertex
-      // into that gap (occt_crankarm: six slivers of Q 22 with one, instead of the
+      // into that gap (it makes slivers with an interior vertex, worse than the
       // boundary-only slivers the report counts apart).
       if (!iso_uniform_ && ms.fixed[ms.tri.vertex(t, 0)] && ms.fixed[ms.tri.vertex(t, 1)] &&
           ms.fixed[ms.tri.vertex(t, 2)])

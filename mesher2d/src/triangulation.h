@@ -261,8 +261,8 @@ class Triangulation {
 void brio_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec);
 
 // Delaunay triangulation of the convex hull of a point set, without constraints: the
-// fast path of m2d::mesh for unconstrained input without refinement (the issue's
-// "Delaunay triangulation of N random points" case). Same kernel idea as Triangulation
+// fast path of m2d::mesh for unconstrained input without refinement (the Delaunay
+// triangulation of N points). Same kernel idea as Triangulation
 // (T(i+1) = T(i) - C(P) + B(P), §7.1.3, exact predicates), but instead of the enclosing
 // box of §7.3.2 the outside of the hull is covered by "ghost" triangles (a, b, G) that
 // join every hull edge to one vertex G at infinity. A ghost triangle's circumdisk is the
