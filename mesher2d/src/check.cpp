@@ -183,26 +183,110 @@ struct Query {
   TriId closed = kNone;  // first triangle containing p in its closure
 };
 
-}  // namespace
+// The checks of check(), in the order they run, with the context they share: each check_*
+// adds its errors to err and leaves what later checks need (valid and ccw triangles, the
+// edge buckets, the input vertex map).
+class Checker {
+ public:
+  Checker(const Mesh& m_, const Pslg& in_, const CheckOptions& opt_, CheckReport& rep_)
+      : m(m_),
+        in(in_),
+        opt(opt_),
+        rep(rep_),
+        err(rep_, opt_.max_errors),
+        V(m_.vertices),
+        T(m_.triangles),
+        E(m_.boundary_edges) {}
+  void run();
 
-CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
-  CheckReport rep;
-  Reporter err(rep, opt.max_errors);
-  const auto& V = m.vertices;
-  const auto& T = m.triangles;
+ private:
+  bool check_id_range();
+  void check_arrays_and_vertices();
+  void check_triangles();
+  bool check_constrained_edge_ids();
+  void bucket_edges();
+  void check_edges();
+  void check_edge(VertId lo, VertId hi, std::int32_t constrained,
+                  const std::vector<std::int32_t>& halves);
+  void check_vertex_angles();
+  void map_input_vertices();
+  void check_segments();
+  void check_segment(std::size_t s);
+  bool leaves_domain(const std::vector<VertId>& dead_ends, const Vec2& B);
+  void accept_unmarked_on_segments();
+  void check_point_queries();
+  void collect_queries(std::vector<Query>& qs);
+  void locate_queries(std::vector<Query>& qs) const;
+  void report_queries(const std::vector<Query>& qs);
+
+  const Mesh& m;
+  const Pslg& in;
+  const CheckOptions& opt;
+  CheckReport& rep;
+  Reporter err;
+  const std::vector<Vec2>& V;
+  const std::vector<std::array<VertId, 3>>& T;
+  const std::vector<BoundaryEdge>& E;
+  VertId nv = 0;
+  TriId nt = 0;
+  std::int32_t ne = 0;
+  std::size_t np = 0;
+  bool have_region = false, have_attr = false;
+  // valid: indices in range and distinct (usable for adjacency); ccw: also oriented.
+  std::vector<std::uint8_t> valid, ccw;
+  bool all_ccw = true;
+  std::vector<std::uint8_t> evalid;  // constrained edge indices in range, not degenerate
+  // Half-edges and constrained edges bucketed by their smaller vertex: bucket lo is
+  // entries[start[lo], start[lo+1]).
+  std::vector<std::int64_t> start;
+  std::vector<EdgeEntry> entries;
+  // canon[e]: the first constrained edge with the same two vertices as e (duplicates
+  // in boundary_edges, e.g. from an input segment given twice, count as one).
+  std::vector<std::int32_t> canon;
+  std::vector<std::uint8_t> on_boundary;  // in a once-used edge
+  bool manifold = true;
+  std::vector<VertId> vmap;  // input point -> mesh vertex (kNone: none)
+  // Segment checks: constrained-edge adjacency (both directions, CSR), which constrained
+  // edges lie on a segment's chain, the segment that last reached each vertex, and the
+  // vertex -> (3 t + k) incidence built on first need.
+  std::vector<std::int32_t> cs, cedge;
+  std::vector<VertId> cadj;
+  std::vector<std::uint8_t> on_chain;
+  std::vector<std::int64_t> visit;
+  std::vector<VertId> stack, dead_ends;
+  std::vector<std::int32_t> vstart, vtris;
+};
+
+void Checker::run() {
+  if (!check_id_range()) return;
+  check_arrays_and_vertices();
+  check_triangles();
+  if (!check_constrained_edge_ids()) return;
+  bucket_edges();
+  check_edges();
+  check_vertex_angles();
+  map_input_vertices();
+  check_segments();
+  check_point_queries();
+}
+
+bool Checker::check_id_range() {
   const std::int64_t nv64 = static_cast<std::int64_t>(V.size());
   const std::int64_t nt64 = static_cast<std::int64_t>(T.size());
   if (nv64 > std::numeric_limits<std::int32_t>::max() ||
       nt64 > std::numeric_limits<std::int32_t>::max() / 3) {
     err.add("mesh too large for 32-bit ids: " + std::to_string(nv64) + " vertices, " +
             std::to_string(nt64) + " triangles");
-    return rep;
+    return false;
   }
-  const VertId nv = static_cast<VertId>(nv64);
-  const TriId nt = static_cast<TriId>(nt64);
+  nv = static_cast<VertId>(nv64);
+  nt = static_cast<TriId>(nt64);
   rep.triangles_checked = nt;
+  return true;
+}
 
-  // ---- 1. arrays and vertices ------------------------------------------------------
+// 1. Array sizes, finite coordinates, no two vertices at the same place.
+void Checker::check_arrays_and_vertices() {
   auto size_ok = [&](std::size_t got, std::size_t want, const char* what, const char* per) {
     if (got != 0 && got != want)
       err.add(std::string("mesh.") + what + " has " + std::to_string(got) + " entries for " +
@@ -211,8 +295,8 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
   size_ok(m.vertex_markers.size(), V.size(), "vertex_markers", "vertices");
   size_ok(m.triangle_region.size(), T.size(), "triangle_region", "triangles");
   size_ok(m.triangle_attribute.size(), T.size(), "triangle_attribute", "triangles");
-  const bool have_region = m.triangle_region.size() == T.size() && nt > 0;
-  const bool have_attr = m.triangle_attribute.size() == T.size() && nt > 0;
+  have_region = m.triangle_region.size() == T.size() && nt > 0;
+  have_attr = m.triangle_attribute.size() == T.size() && nt > 0;
 
   bool all_finite = true;
   for (VertId i = 0; i < nv; ++i)
@@ -220,27 +304,26 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
       all_finite = false;
       err.add("vertex " + std::to_string(i) + " has a non-finite coordinate " + pt(V[i]));
     }
-  if (all_finite) {  // (NaN would break the strict weak order of the sort)
-    // Two mesh vertices at the same place would let two sheets of triangles overlap
-    // without any edge or angle check noticing.
-    std::vector<VertId> order(static_cast<std::size_t>(nv));
-    for (VertId i = 0; i < nv; ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](VertId a, VertId b) {
-      return V[a].x != V[b].x ? V[a].x < V[b].x : (V[a].y != V[b].y ? V[a].y < V[b].y : a < b);
-    });
-    for (VertId i = 1; i < nv && !err.full(); ++i) {
-      const Vec2 &p = V[order[i - 1]], &q = V[order[i]];
-      if (p.x == q.x && p.y == q.y)
-        err.add("vertices " + std::to_string(order[i - 1]) + " and " + std::to_string(order[i]) +
-                " coincide at " + pt(p));
-    }
+  if (!all_finite) return;  // (NaN would break the strict weak order of the sort)
+  // Two mesh vertices at the same place would let two sheets of triangles overlap
+  // without any edge or angle check noticing.
+  std::vector<VertId> order(static_cast<std::size_t>(nv));
+  for (VertId i = 0; i < nv; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](VertId a, VertId b) {
+    return V[a].x != V[b].x ? V[a].x < V[b].x : (V[a].y != V[b].y ? V[a].y < V[b].y : a < b);
+  });
+  for (VertId i = 1; i < nv && !err.full(); ++i) {
+    const Vec2 &p = V[order[i - 1]], &q = V[order[i]];
+    if (p.x == q.x && p.y == q.y)
+      err.add("vertices " + std::to_string(order[i - 1]) + " and " + std::to_string(order[i]) +
+              " coincide at " + pt(p));
   }
+}
 
-  // ---- 2. triangles ----------------------------------------------------------------
-  // valid: indices in range and distinct (usable for adjacency); ccw: also oriented.
-  std::vector<std::uint8_t> valid(static_cast<std::size_t>(nt), 0),
-      ccw(static_cast<std::size_t>(nt), 0);
-  bool all_ccw = true;
+// 2. Triangle indices in range, three distinct vertices, strictly counter-clockwise.
+void Checker::check_triangles() {
+  valid.assign(static_cast<std::size_t>(nt), 0);
+  ccw.assign(static_cast<std::size_t>(nt), 0);
   for (TriId t = 0; t < nt; ++t) {
     const auto& v = T[t];
     if (v[0] < 0 || v[0] >= nv || v[1] < 0 || v[1] >= nv || v[2] < 0 || v[2] >= nv) {
@@ -265,16 +348,17 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
               ")");
     }
   }
+}
 
-  // ---- 3. edges ----------------------------------------------------------------------
-  const auto& E = m.boundary_edges;
+// 3a. Constrained edges: indices in range, not degenerate.
+bool Checker::check_constrained_edge_ids() {
   const std::int64_t ne64 = static_cast<std::int64_t>(E.size());
   if (ne64 > std::numeric_limits<std::int32_t>::max() - 1) {
     err.add("too many boundary edges: " + std::to_string(ne64));
-    return rep;
+    return false;
   }
-  const std::int32_t ne = static_cast<std::int32_t>(ne64);
-  std::vector<std::uint8_t> evalid(static_cast<std::size_t>(ne), 0);
+  ne = static_cast<std::int32_t>(ne64);
+  evalid.assign(static_cast<std::size_t>(ne), 0);
   for (std::int32_t e = 0; e < ne; ++e) {
     const VertId a = E[e].a, b = E[e].b;
     if (a < 0 || a >= nv || b < 0 || b >= nv)
@@ -285,16 +369,19 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     else
       evalid[e] = 1;
   }
+  return true;
+}
 
-  // Counting sort of half-edges and constrained edges by their smaller vertex.
-  std::vector<std::int64_t> start(static_cast<std::size_t>(nv) + 2, 0);
+// 3b. Counting sort of half-edges and constrained edges by their smaller vertex.
+void Checker::bucket_edges() {
+  start.assign(static_cast<std::size_t>(nv) + 2, 0);
   for (TriId t = 0; t < nt; ++t)
     if (valid[t])
       for (int k = 0; k < 3; ++k) ++start[std::min(T[t][k], T[t][(k + 1) % 3]) + 2];
   for (std::int32_t e = 0; e < ne; ++e)
     if (evalid[e]) ++start[std::min(E[e].a, E[e].b) + 2];
   for (std::size_t i = 2; i < start.size(); ++i) start[i] += start[i - 1];
-  std::vector<EdgeEntry> entries(static_cast<std::size_t>(start.back()));
+  entries.resize(static_cast<std::size_t>(start.back()));
   for (TriId t = 0; t < nt; ++t)
     if (valid[t])
       for (int k = 0; k < 3; ++k) {
@@ -304,13 +391,14 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
   for (std::int32_t e = 0; e < ne; ++e)
     if (evalid[e])
       entries[start[std::min(E[e].a, E[e].b) + 1]++] = {std::max(E[e].a, E[e].b), -1 - e};
-  // Now bucket lo is entries[start[lo], start[lo+1]).
+}
 
-  // canon[e]: the first constrained edge with the same two vertices as e (duplicates
-  // in boundary_edges, e.g. from an input segment given twice, count as one).
-  std::vector<std::int32_t> canon(static_cast<std::size_t>(ne), -1);
-  std::vector<std::uint8_t> on_boundary(static_cast<std::size_t>(nv), 0);  // in a once-used edge
-  bool manifold = true;
+// 3c. Each undirected edge in at most two triangles, then with opposite orientations; an
+// edge in one triangle (domain boundary) is constrained; every constrained edge is an
+// edge of a triangle.
+void Checker::check_edges() {
+  canon.assign(static_cast<std::size_t>(ne), -1);
+  on_boundary.assign(static_cast<std::size_t>(nv), 0);
   std::int64_t nedges = 0;
   std::vector<std::int32_t> halves;
   for (VertId lo = 0; lo < nv; ++lo) {
@@ -339,98 +427,112 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
         continue;
       }
       ++nedges;
-      auto tri_of = [](std::int32_t code) { return code / 3; };
-      // Direction of a half-edge: true when it runs lo -> hi.
-      auto forward = [&](std::int32_t code) { return T[code / 3][code % 3] == lo; };
-      if (halves.size() == 1) {
-        on_boundary[lo] = on_boundary[hi] = 1;
-        if (constrained < 0) {
-          const TriId t = tri_of(halves[0]);
-          err.add(edge_str(lo, hi) + " is on the domain boundary but is not a constrained edge (" +
-                  tri_str(t, T[t]) + ")");
-        }
-        continue;
-      }
-      if (halves.size() > 2) {
-        manifold = false;
-        on_boundary[lo] = on_boundary[hi] = 1;
-        std::string list;
-        for (std::size_t i = 0; i < halves.size(); ++i) {
-          if (i) list += ", ";
-          list += tri_str(tri_of(halves[i]), T[tri_of(halves[i])]);
-        }
-        err.add(edge_str(lo, hi) + " is non-manifold: shared by " + std::to_string(halves.size()) +
-                " triangles: " + list);
-        continue;
-      }
-      const TriId t1 = tri_of(halves[0]), t2 = tri_of(halves[1]);
-      if (forward(halves[0]) == forward(halves[1])) {
-        manifold = false;
-        on_boundary[lo] = on_boundary[hi] = 1;
-        err.add(edge_str(lo, hi) + " has inconsistent orientation: " + tri_str(t1, T[t1]) +
-                " and " + tri_str(t2, T[t2]) + " both use it in the same direction " +
-                (forward(halves[0]) ? edge_str(lo, hi) : edge_str(hi, lo)));
-        continue;
-      }
-      if (constrained >= 0) continue;
-      if (have_region && m.triangle_region[t1] != m.triangle_region[t2])
-        err.add(edge_str(lo, hi) + " is not constrained but separates regions: " +
-                tri_str(t1, T[t1]) + " is in region " + std::to_string(m.triangle_region[t1]) +
-                ", " + tri_str(t2, T[t2]) + " in region " + std::to_string(m.triangle_region[t2]));
-      if (have_attr && !(m.triangle_attribute[t1] == m.triangle_attribute[t2]))
-        err.add(edge_str(lo, hi) + " is not constrained but separates attributes: " +
-                tri_str(t1, T[t1]) + " has attribute " + fmt(m.triangle_attribute[t1]) + ", " +
-                tri_str(t2, T[t2]) + " has " + fmt(m.triangle_attribute[t2]));
-      if (opt.delaunay && ccw[t1] && ccw[t2]) {
-        const auto& v1 = T[t1];
-        const VertId d = T[t2][(halves[1] % 3 + 2) % 3];  // vertex of t2 opposite the shared edge
-        const double ic = pred::incircle(ptr(V[v1[0]]), ptr(V[v1[1]]), ptr(V[v1[2]]), ptr(V[d]));
-        if (ic > 0)
-          err.add(edge_str(lo, hi) + " is not Delaunay: vertex " + std::to_string(d) + " of " +
-                  tri_str(t2, T[t2]) + " is inside the circumcircle of " + tri_str(t1, v1));
-      }
+      check_edge(lo, hi, constrained, halves);
     }
   }
   rep.edges_checked = nedges;
+}
 
-  // ---- 4. no overlap around vertices -------------------------------------------------
-  if (all_ccw && manifold) {
-    std::vector<double> angle(static_cast<std::size_t>(nv), 0.0);
-    std::vector<std::uint8_t> used(static_cast<std::size_t>(nv), 0);
-    for (TriId t = 0; t < nt; ++t) {
-      const auto& v = T[t];
-      for (int k = 0; k < 3; ++k) {
-        const Vec2 &a = V[v[k]], &b = V[v[(k + 1) % 3]], &c = V[v[(k + 2) % 3]];
-        // Edge vectors scaled to unit max-norm (differences of tiny or denormal
-        // coordinates would underflow in the products), and |cross|: the triangle is
-        // CCW (exact), so each angle is in (0, pi) even when round-off flips the sign of
-        // a nearly zero cross product.
-        double ux = b.x - a.x, uy = b.y - a.y, wx = c.x - a.x, wy = c.y - a.y;
-        const double su = std::max(std::abs(ux), std::abs(uy)),
-                     sw = std::max(std::abs(wx), std::abs(wy));
-        ux /= su, uy /= su, wx /= sw, wy /= sw;
-        angle[v[k]] += std::atan2(std::abs(ux * wy - uy * wx), ux * wx + uy * wy);
-        used[v[k]] = 1;
-      }
+// One edge (lo, hi) and its half-edges: manifold, consistently oriented, constrained on
+// the boundary; triangles on both sides of a non-constrained edge are in the same region
+// with the same attribute; Delaunay (optional): incircle(opposite vertex) <= 0.
+void Checker::check_edge(VertId lo, VertId hi, std::int32_t constrained,
+                         const std::vector<std::int32_t>& halves) {
+  auto tri_of = [](std::int32_t code) { return code / 3; };
+  // Direction of a half-edge: true when it runs lo -> hi.
+  auto forward = [&](std::int32_t code) { return T[code / 3][code % 3] == lo; };
+  if (halves.size() == 1) {
+    on_boundary[lo] = on_boundary[hi] = 1;
+    if (constrained < 0) {
+      const TriId t = tri_of(halves[0]);
+      err.add(edge_str(lo, hi) + " is on the domain boundary but is not a constrained edge (" +
+              tri_str(t, T[t]) + ")");
     }
-    constexpr double two_pi = 2.0 * std::numbers::pi;
-    for (VertId i = 0; i < nv && !err.full(); ++i) {
-      if (!used[i]) continue;
-      const double deg = angle[i] * 180.0 / std::numbers::pi;
-      if (!on_boundary[i] && std::abs(angle[i] - two_pi) > kAngleTol)
-        err.add("vertex " + std::to_string(i) + " " + pt(V[i]) +
-                ": the triangles around this interior vertex overlap (their angles add up to " +
-                fmt(deg) + " degrees, not 360)");
-      else if (on_boundary[i] && angle[i] > two_pi + kAngleTol)
-        err.add("vertex " + std::to_string(i) + " " + pt(V[i]) +
-                ": the triangles around this boundary vertex overlap (their angles add up to " +
-                fmt(deg) + " degrees)");
+    return;
+  }
+  if (halves.size() > 2) {
+    manifold = false;
+    on_boundary[lo] = on_boundary[hi] = 1;
+    std::string list;
+    for (std::size_t i = 0; i < halves.size(); ++i) {
+      if (i) list += ", ";
+      list += tri_str(tri_of(halves[i]), T[tri_of(halves[i])]);
+    }
+    err.add(edge_str(lo, hi) + " is non-manifold: shared by " + std::to_string(halves.size()) +
+            " triangles: " + list);
+    return;
+  }
+  const TriId t1 = tri_of(halves[0]), t2 = tri_of(halves[1]);
+  if (forward(halves[0]) == forward(halves[1])) {
+    manifold = false;
+    on_boundary[lo] = on_boundary[hi] = 1;
+    err.add(edge_str(lo, hi) + " has inconsistent orientation: " + tri_str(t1, T[t1]) + " and " +
+            tri_str(t2, T[t2]) + " both use it in the same direction " +
+            (forward(halves[0]) ? edge_str(lo, hi) : edge_str(hi, lo)));
+    return;
+  }
+  if (constrained >= 0) return;
+  if (have_region && m.triangle_region[t1] != m.triangle_region[t2])
+    err.add(edge_str(lo, hi) + " is not constrained but separates regions: " + tri_str(t1, T[t1]) +
+            " is in region " + std::to_string(m.triangle_region[t1]) + ", " + tri_str(t2, T[t2]) +
+            " in region " + std::to_string(m.triangle_region[t2]));
+  if (have_attr && !(m.triangle_attribute[t1] == m.triangle_attribute[t2]))
+    err.add(edge_str(lo, hi) + " is not constrained but separates attributes: " +
+            tri_str(t1, T[t1]) + " has attribute " + fmt(m.triangle_attribute[t1]) + ", " +
+            tri_str(t2, T[t2]) + " has " + fmt(m.triangle_attribute[t2]));
+  if (opt.delaunay && ccw[t1] && ccw[t2]) {
+    const auto& v1 = T[t1];
+    const VertId d = T[t2][(halves[1] % 3 + 2) % 3];  // vertex of t2 opposite the shared edge
+    const double ic = pred::incircle(ptr(V[v1[0]]), ptr(V[v1[1]]), ptr(V[v1[2]]), ptr(V[d]));
+    if (ic > 0)
+      err.add(edge_str(lo, hi) + " is not Delaunay: vertex " + std::to_string(d) + " of " +
+              tri_str(t2, T[t2]) + " is inside the circumcircle of " + tri_str(t1, v1));
+  }
+}
+
+// 4. No overlap around vertices: the angles of the triangles around an interior vertex
+// add up to 2*pi, around a boundary vertex to at most 2*pi (catches a mesh that wraps
+// around a vertex twice, which the edge checks cannot see).
+void Checker::check_vertex_angles() {
+  if (!all_ccw || !manifold) return;
+  std::vector<double> angle(static_cast<std::size_t>(nv), 0.0);
+  std::vector<std::uint8_t> used(static_cast<std::size_t>(nv), 0);
+  for (TriId t = 0; t < nt; ++t) {
+    const auto& v = T[t];
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 &a = V[v[k]], &b = V[v[(k + 1) % 3]], &c = V[v[(k + 2) % 3]];
+      // Edge vectors scaled to unit max-norm (differences of tiny or denormal
+      // coordinates would underflow in the products), and |cross|: the triangle is
+      // CCW (exact), so each angle is in (0, pi) even when round-off flips the sign of
+      // a nearly zero cross product.
+      double ux = b.x - a.x, uy = b.y - a.y, wx = c.x - a.x, wy = c.y - a.y;
+      const double su = std::max(std::abs(ux), std::abs(uy)),
+                   sw = std::max(std::abs(wx), std::abs(wy));
+      ux /= su, uy /= su, wx /= sw, wy /= sw;
+      angle[v[k]] += std::atan2(std::abs(ux * wy - uy * wx), ux * wx + uy * wy);
+      used[v[k]] = 1;
     }
   }
+  constexpr double two_pi = 2.0 * std::numbers::pi;
+  for (VertId i = 0; i < nv && !err.full(); ++i) {
+    if (!used[i]) continue;
+    const double deg = angle[i] * 180.0 / std::numbers::pi;
+    if (!on_boundary[i] && std::abs(angle[i] - two_pi) > kAngleTol)
+      err.add("vertex " + std::to_string(i) + " " + pt(V[i]) +
+              ": the triangles around this interior vertex overlap (their angles add up to " +
+              fmt(deg) + " degrees, not 360)");
+    else if (on_boundary[i] && angle[i] > two_pi + kAngleTol)
+      err.add("vertex " + std::to_string(i) + " " + pt(V[i]) +
+              ": the triangles around this boundary vertex overlap (their angles add up to " +
+              fmt(deg) + " degrees)");
+  }
+}
 
-  // ---- 5. input vertices ---------------------------------------------------------------
-  const std::size_t np = in.points.size();
-  std::vector<VertId> vmap(np, kNone);
+// 5. Input vertices: input_vertex maps to a vertex with the same coordinates (without a
+// map, the input points are found by their exact coordinates).
+void Checker::map_input_vertices() {
+  np = in.points.size();
+  vmap.assign(np, kNone);
   if (m.input_vertex.size() == np) {
     for (std::size_t i = 0; i < np; ++i) {
       const VertId v = m.input_vertex[i];
@@ -465,162 +567,177 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
     err.add("mesh.input_vertex has " + std::to_string(m.input_vertex.size()) + " entries for " +
             std::to_string(np) + " input points");
   }
+}
 
-  // ---- 6. segments -------------------------------------------------------------------
-  if (opt.segments_present && !in.segments.empty()) {
-    // Constrained-edge adjacency (both directions), CSR.
-    std::vector<std::int32_t> cs(static_cast<std::size_t>(nv) + 2, 0);
-    for (std::int32_t e = 0; e < ne; ++e)
-      if (evalid[e]) ++cs[E[e].a + 2], ++cs[E[e].b + 2];
-    for (std::size_t i = 2; i < cs.size(); ++i) cs[i] += cs[i - 1];
-    std::vector<VertId> cadj(static_cast<std::size_t>(cs.back()));
-    std::vector<std::int32_t> cedge(static_cast<std::size_t>(cs.back()));
-    for (std::int32_t e = 0; e < ne; ++e)
-      if (evalid[e]) {
-        cedge[cs[E[e].a + 1]] = e, cadj[cs[E[e].a + 1]++] = E[e].b;
-        cedge[cs[E[e].b + 1]] = e, cadj[cs[E[e].b + 1]++] = E[e].a;
-      }
-    // The converse: every constrained edge must lie on the chain of some input segment.
-    // This catches a chain bent away from its segment (a misplaced Steiner vertex) when
-    // the segment itself is accepted as leaving the domain (below).
-    std::vector<std::uint8_t> on_chain(static_cast<std::size_t>(ne), 0);
-    std::vector<std::int64_t> visit(static_cast<std::size_t>(nv),
-                                    -1);  // segment that reached a vertex
-    std::vector<VertId> stack;
-    std::vector<VertId> dead_ends;
-    std::vector<std::int32_t> vstart, vtris;  // vertex -> 3 t + k, built on first need
-    for (std::size_t s = 0; s < in.segments.size() && !err.full(); ++s) {
-      const auto& sg = in.segments[s];
-      const std::string sname = "segment " + std::to_string(s) + " (input " + std::to_string(sg.a) +
-                                "-" + std::to_string(sg.b) + ")";
-      if (sg.a < 0 || sg.b < 0 || static_cast<std::size_t>(sg.a) >= np ||
-          static_cast<std::size_t>(sg.b) >= np) {
-        err.add(sname + " references a point out of range [0," + std::to_string(np) + ")");
-        continue;
-      }
-      VertId va = vmap[sg.a], vb = vmap[sg.b];
-      // Both ends outside the domain: the segment went with the exterior or a hole.
-      // One end outside: walk from the other one; the chain must leave the domain.
-      if (va == kNone && vb == kNone) continue;
-      Vec2 A, B;
-      if (va == kNone) {
-        va = vb;
-        vb = kNone;
-        A = V[va], B = in.points[sg.a];
-      } else {
-        A = V[va], B = vb == kNone ? in.points[sg.b] : V[vb];
-      }
-      if (va == vb || (A.x == B.x && A.y == B.y)) continue;
-      const SegmentFrame sf(A, B);
-      using Key = SegmentFrame::Key;
-      auto key = [&](const Vec2& p) { return sf.key(p); };
-      // Search along constrained edges whose far vertex advances toward B and lies on
-      // the segment (exactly, or within rounding). The whole reachable set is explored,
-      // not one greedy path: two input segments from one point may be nearly collinear
-      // (a grid scaled by 0.1), so both chains are within rounding of both lines and
-      // either may lead on; every edge met this way lies on the segment and is marked.
-      const Key kb = key(B);
-      stack.clear();
-      dead_ends.clear();
-      stack.push_back(va);
-      visit[va] = static_cast<std::int64_t>(s);
-      VertId furthest = va;
-      bool reached = false;
-      while (!stack.empty()) {
-        const VertId cur = stack.back();
-        stack.pop_back();
-        const Key kc = key(V[cur]);
-        if (kc > key(V[furthest])) furthest = cur;
-        bool onward = false;
-        for (std::int32_t j = cs[cur]; j < cs[cur + 1]; ++j) {
-          const VertId n = cadj[j];
-          if (n != vb) {
-            const Vec2& P = V[n];
-            const Key kp = key(P);
-            if (!(kp > kc && kp < kb)) continue;
-            if (!sf.near_line(P)) continue;
-          }
-          onward = true;
-          on_chain[canon[cedge[j]]] = 1;
-          if (n == vb) {
-            reached = true;
-          } else if (visit[n] != static_cast<std::int64_t>(s)) {
-            visit[n] = static_cast<std::int64_t>(s);
-            stack.push_back(n);
-          }
-        }
-        if (!onward) dead_ends.push_back(cur);
-      }
-      if (reached) continue;
-      // No chain to B. That is right when the segment leaves the domain where the chain
-      // stops: the rest of it was removed with the exterior or a hole (a dangling
-      // segment outside the outer boundary, one end outside). It is wrong when the
-      // segment goes on into a triangle there. At a dead end F, the direction F->B is in
-      // the closed angular sector of a triangle (F, P, Q) iff orient(F,P,B) >= 0 and
-      // orient(F,B,Q) >= 0 (the angle at F is below pi). Accept when at some dead end no
-      // triangle contains the direction. (A segment leaving a hole's boundary through a
-      // vertex and re-entering the domain later is accepted without checking the rest.)
-      if (vstart.empty()) {
-        vstart.assign(static_cast<std::size_t>(nv) + 2, 0);
-        for (TriId t = 0; t < nt; ++t)
-          if (ccw[t])
-            for (int k = 0; k < 3; ++k) ++vstart[T[t][k] + 2];
-        for (std::size_t i = 2; i < vstart.size(); ++i) vstart[i] += vstart[i - 1];
-        vtris.resize(static_cast<std::size_t>(vstart.back()));
-        for (TriId t = 0; t < nt; ++t)
-          if (ccw[t])
-            for (int k = 0; k < 3; ++k) vtris[vstart[T[t][k] + 1]++] = 3 * t + k;
-      }
-      bool leaves = false;
-      for (const VertId f : dead_ends) {
-        bool inside = false;
-        for (std::int32_t j = vstart[f]; j < vstart[f + 1] && !inside; ++j) {
-          const auto& v = T[vtris[j] / 3];
-          const int k = vtris[j] % 3;
-          const Vec2 &F = V[v[k]], &P = V[v[(k + 1) % 3]], &Q = V[v[(k + 2) % 3]];
-          inside = orient(F, P, B) >= 0 && orient(F, B, Q) >= 0;
-        }
-        if (!inside) {
-          leaves = true;
-          break;
-        }
-      }
-      if (!leaves)
-        err.add(sname + " is not covered by constrained edges: the chain from vertex " +
-                std::to_string(va) + " toward " +
-                (vb == kNone ? "input point " + pt(B) : "vertex " + std::to_string(vb)) +
-                " stops at vertex " + std::to_string(furthest) + " " + pt(V[furthest]) +
-                ", where the segment goes on into the domain");
+// 6. Segments: every input segment is covered by a chain of constrained edges from one
+// end to the other through vertices on the segment (exactly, or within the rounding of a
+// Steiner point: kSegmentTolUlps), and every constrained edge lies on such a chain.
+void Checker::check_segments() {
+  if (!opt.segments_present || in.segments.empty()) return;
+  // Constrained-edge adjacency (both directions), CSR.
+  cs.assign(static_cast<std::size_t>(nv) + 2, 0);
+  for (std::int32_t e = 0; e < ne; ++e)
+    if (evalid[e]) ++cs[E[e].a + 2], ++cs[E[e].b + 2];
+  for (std::size_t i = 2; i < cs.size(); ++i) cs[i] += cs[i - 1];
+  cadj.resize(static_cast<std::size_t>(cs.back()));
+  cedge.resize(static_cast<std::size_t>(cs.back()));
+  for (std::int32_t e = 0; e < ne; ++e)
+    if (evalid[e]) {
+      cedge[cs[E[e].a + 1]] = e, cadj[cs[E[e].a + 1]++] = E[e].b;
+      cedge[cs[E[e].b + 1]] = e, cadj[cs[E[e].b + 1]++] = E[e].a;
     }
-    // A segment accepted above as leaving the domain may come back into it (its middle
-    // runs between a hole and the exterior, fuzz_poly_mesh2d): the walk from its first end
-    // stops at the gap and never marks the pieces beyond it. An edge left unmarked is
-    // therefore accepted when it lies on some input segment (both ends on the closed
-    // segment). Only unmarked edges are searched, so a valid mesh pays for its few
-    // re-entering pieces only.
-    for (std::int32_t e = 0; e < ne && !err.full(); ++e) {
-      if (!evalid[e] || canon[e] != e || on_chain[e]) continue;
-      for (const auto& sg : in.segments) {
-        if (sg.a < 0 || sg.b < 0 || static_cast<std::size_t>(sg.a) >= np ||
-            static_cast<std::size_t>(sg.b) >= np)
-          continue;
-        const Vec2 &A = in.points[sg.a], &B = in.points[sg.b];
-        if (A.x == B.x && A.y == B.y) continue;
-        const SegmentFrame sf(A, B);
-        if (sf.holds(V[E[e].a]) && sf.holds(V[E[e].b])) {
-          on_chain[e] = 1;
-          break;
-        }
-      }
-    }
-    for (std::int32_t e = 0; e < ne && !err.full(); ++e)
-      if (evalid[e] && canon[e] == e && !on_chain[e])
-        err.add("constrained edge " + std::to_string(e) + " " + edge_str(E[e].a, E[e].b) + " " +
-                pt(V[E[e].a]) + "-" + pt(V[E[e].b]) + " is not on the chain of any input segment");
+  // The converse: every constrained edge must lie on the chain of some input segment.
+  // This catches a chain bent away from its segment (a misplaced Steiner vertex) when
+  // the segment itself is accepted as leaving the domain (below).
+  on_chain.assign(static_cast<std::size_t>(ne), 0);
+  visit.assign(static_cast<std::size_t>(nv), -1);  // segment that reached a vertex
+  for (std::size_t s = 0; s < in.segments.size() && !err.full(); ++s) check_segment(s);
+  accept_unmarked_on_segments();
+  for (std::int32_t e = 0; e < ne && !err.full(); ++e)
+    if (evalid[e] && canon[e] == e && !on_chain[e])
+      err.add("constrained edge " + std::to_string(e) + " " + edge_str(E[e].a, E[e].b) + " " +
+              pt(V[E[e].a]) + "-" + pt(V[E[e].b]) + " is not on the chain of any input segment");
+}
+
+// The chain of input segment s, marking the constrained edges on it (on_chain).
+void Checker::check_segment(std::size_t s) {
+  const auto& sg = in.segments[s];
+  const std::string sname = "segment " + std::to_string(s) + " (input " + std::to_string(sg.a) +
+                            "-" + std::to_string(sg.b) + ")";
+  if (sg.a < 0 || sg.b < 0 || static_cast<std::size_t>(sg.a) >= np ||
+      static_cast<std::size_t>(sg.b) >= np) {
+    err.add(sname + " references a point out of range [0," + std::to_string(np) + ")");
+    return;
   }
+  VertId va = vmap[sg.a], vb = vmap[sg.b];
+  // Both ends outside the domain: the segment went with the exterior or a hole.
+  // One end outside: walk from the other one; the chain must leave the domain.
+  if (va == kNone && vb == kNone) return;
+  Vec2 A, B;
+  if (va == kNone) {
+    va = vb;
+    vb = kNone;
+    A = V[va], B = in.points[sg.a];
+  } else {
+    A = V[va], B = vb == kNone ? in.points[sg.b] : V[vb];
+  }
+  if (va == vb || (A.x == B.x && A.y == B.y)) return;
+  const SegmentFrame sf(A, B);
+  using Key = SegmentFrame::Key;
+  auto key = [&](const Vec2& p) { return sf.key(p); };
+  // Search along constrained edges whose far vertex advances toward B and lies on
+  // the segment (exactly, or within rounding). The whole reachable set is explored,
+  // not one greedy path: two input segments from one point may be nearly collinear
+  // (a grid scaled by 0.1), so both chains are within rounding of both lines and
+  // either may lead on; every edge met this way lies on the segment and is marked.
+  const Key kb = key(B);
+  stack.clear();
+  dead_ends.clear();
+  stack.push_back(va);
+  visit[va] = static_cast<std::int64_t>(s);
+  VertId furthest = va;
+  bool reached = false;
+  while (!stack.empty()) {
+    const VertId cur = stack.back();
+    stack.pop_back();
+    const Key kc = key(V[cur]);
+    if (kc > key(V[furthest])) furthest = cur;
+    bool onward = false;
+    for (std::int32_t j = cs[cur]; j < cs[cur + 1]; ++j) {
+      const VertId n = cadj[j];
+      if (n != vb) {
+        const Vec2& P = V[n];
+        const Key kp = key(P);
+        if (!(kp > kc && kp < kb)) continue;
+        if (!sf.near_line(P)) continue;
+      }
+      onward = true;
+      on_chain[canon[cedge[j]]] = 1;
+      if (n == vb) {
+        reached = true;
+      } else if (visit[n] != static_cast<std::int64_t>(s)) {
+        visit[n] = static_cast<std::int64_t>(s);
+        stack.push_back(n);
+      }
+    }
+    if (!onward) dead_ends.push_back(cur);
+  }
+  if (reached || leaves_domain(dead_ends, B)) return;
+  err.add(sname + " is not covered by constrained edges: the chain from vertex " +
+          std::to_string(va) + " toward " +
+          (vb == kNone ? "input point " + pt(B) : "vertex " + std::to_string(vb)) +
+          " stops at vertex " + std::to_string(furthest) + " " + pt(V[furthest]) +
+          ", where the segment goes on into the domain");
+}
 
-  // ---- 7. point queries ----------------------------------------------------------------
+// A segment without a chain to B is right when it leaves the domain where the chain
+// stops: the rest of it was removed with the exterior or a hole (a dangling segment
+// outside the outer boundary, one end outside). It is wrong when the segment goes on into
+// a triangle there. At a dead end F, the direction F->B is in the closed angular sector
+// of a triangle (F, P, Q) iff orient(F,P,B) >= 0 and orient(F,B,Q) >= 0 (the angle at F
+// is below pi). True when at some dead end no triangle contains the direction. (A segment
+// leaving a hole's boundary through a vertex and re-entering the domain later is accepted
+// without checking the rest.)
+bool Checker::leaves_domain(const std::vector<VertId>& ends, const Vec2& B) {
+  if (vstart.empty()) {
+    vstart.assign(static_cast<std::size_t>(nv) + 2, 0);
+    for (TriId t = 0; t < nt; ++t)
+      if (ccw[t])
+        for (int k = 0; k < 3; ++k) ++vstart[T[t][k] + 2];
+    for (std::size_t i = 2; i < vstart.size(); ++i) vstart[i] += vstart[i - 1];
+    vtris.resize(static_cast<std::size_t>(vstart.back()));
+    for (TriId t = 0; t < nt; ++t)
+      if (ccw[t])
+        for (int k = 0; k < 3; ++k) vtris[vstart[T[t][k] + 1]++] = 3 * t + k;
+  }
+  for (const VertId f : ends) {
+    bool inside = false;
+    for (std::int32_t j = vstart[f]; j < vstart[f + 1] && !inside; ++j) {
+      const auto& v = T[vtris[j] / 3];
+      const int k = vtris[j] % 3;
+      const Vec2 &F = V[v[k]], &P = V[v[(k + 1) % 3]], &Q = V[v[(k + 2) % 3]];
+      inside = orient(F, P, B) >= 0 && orient(F, B, Q) >= 0;
+    }
+    if (!inside) return true;
+  }
+  return false;
+}
+
+// A segment accepted as leaving the domain may come back into it (its middle runs
+// between a hole and the exterior): the walk from its first end stops at the gap and
+// never marks the pieces beyond it. An edge left unmarked is therefore accepted when it
+// lies on some input segment (both ends on the closed segment). Only unmarked edges are
+// searched, so a valid mesh pays for its few re-entering pieces only.
+void Checker::accept_unmarked_on_segments() {
+  for (std::int32_t e = 0; e < ne && !err.full(); ++e) {
+    if (!evalid[e] || canon[e] != e || on_chain[e]) continue;
+    for (const auto& sg : in.segments) {
+      if (sg.a < 0 || sg.b < 0 || static_cast<std::size_t>(sg.a) >= np ||
+          static_cast<std::size_t>(sg.b) >= np)
+        continue;
+      const Vec2 &A = in.points[sg.a], &B = in.points[sg.b];
+      if (A.x == B.x && A.y == B.y) continue;
+      const SegmentFrame sf(A, B);
+      if (sf.holds(V[E[e].a]) && sf.holds(V[E[e].b])) {
+        on_chain[e] = 1;
+        break;
+      }
+    }
+  }
+}
+
+// 7. Point queries: no triangle contains a hole seed; every region seed is in a triangle
+// whose attribute is the seed's; an input point without a mesh vertex is not inside (or
+// on the boundary of) the meshed domain.
+void Checker::check_point_queries() {
   std::vector<Query> qs;
+  collect_queries(qs);
+  if (qs.empty()) return;
+  locate_queries(qs);
+  report_queries(qs);
+}
+
+void Checker::collect_queries(std::vector<Query>& qs) {
   if (opt.seeds) {
     for (std::size_t i = 0; i < in.holes.size(); ++i)
       qs.push_back({Query::Hole, static_cast<std::int32_t>(i), in.holes[i]});
@@ -644,91 +761,102 @@ CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
   }
   // Drop non-finite query points (they cannot be located; the mesher rejects them).
   std::erase_if(qs, [](const Query& q) { return !std::isfinite(q.p.x) || !std::isfinite(q.p.y); });
+}
 
-  if (!qs.empty()) {
-    // Uniform grid over the query points, ~1 query per cell; every oriented triangle is
-    // tested against the queries in the cells its bounding box overlaps.
-    double x0 = qs[0].p.x, x1 = x0, y0 = qs[0].p.y, y1 = y0;
-    for (const auto& q : qs)
-      x0 = std::min(x0, q.p.x), x1 = std::max(x1, q.p.x), y0 = std::min(y0, q.p.y),
-      y1 = std::max(y1, q.p.y);
-    const int G =
-        std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(qs.size())))), 1, 1024);
-    const double dx = x1 > x0 ? (x1 - x0) / G : 1.0, dy = y1 > y0 ? (y1 - y0) / G : 1.0;
-    // floor((x - x0) / dx) is monotone in x, so a triangle's cell range covers every cell
-    // of a query inside its bounding box.
-    auto cx = [&](double x) {
-      return std::clamp(static_cast<int>(std::floor((x - x0) / dx)), 0, G - 1);
-    };
-    auto cy = [&](double y) {
-      return std::clamp(static_cast<int>(std::floor((y - y0) / dy)), 0, G - 1);
-    };
-    std::vector<std::int32_t> cstart(static_cast<std::size_t>(G) * G + 1, 0), cq(qs.size());
-    for (const auto& q : qs) ++cstart[cy(q.p.y) * G + cx(q.p.x) + 1];
-    for (std::size_t i = 1; i < cstart.size(); ++i) cstart[i] += cstart[i - 1];
-    {
-      std::vector<std::int32_t> fill(cstart.begin(), cstart.end() - 1);
-      for (std::size_t i = 0; i < qs.size(); ++i)
-        cq[fill[cy(qs[i].p.y) * G + cx(qs[i].p.x)]++] = static_cast<std::int32_t>(i);
-    }
-    for (TriId t = 0; t < nt; ++t) {
-      if (!ccw[t]) continue;
-      const Vec2 &a = V[T[t][0]], &b = V[T[t][1]], &c = V[T[t][2]];
-      const double tx0 = std::min({a.x, b.x, c.x}), tx1 = std::max({a.x, b.x, c.x});
-      const double ty0 = std::min({a.y, b.y, c.y}), ty1 = std::max({a.y, b.y, c.y});
-      if (tx1 < x0 || tx0 > x1 || ty1 < y0 || ty0 > y1) continue;
-      const int i0 = cx(tx0), i1 = cx(tx1), j0 = cy(ty0), j1 = cy(ty1);
-      for (int j = j0; j <= j1; ++j)
-        for (int i = i0; i <= i1; ++i)
-          for (std::int32_t k = cstart[j * G + i]; k < cstart[j * G + i + 1]; ++k) {
-            Query& q = qs[cq[k]];
-            if (q.strict != kNone) continue;
-            if (q.p.x < tx0 || q.p.x > tx1 || q.p.y < ty0 || q.p.y > ty1) continue;
-            const double o1 = orient(a, b, q.p), o2 = orient(b, c, q.p), o3 = orient(c, a, q.p);
-            if (o1 < 0 || o2 < 0 || o3 < 0) continue;
-            if (q.closed == kNone) q.closed = t;
-            if (o1 > 0 && o2 > 0 && o3 > 0) q.strict = t;
-          }
-    }
-    // Region seeds: group by the region of their triangle; when seeds of one region
-    // disagree, any of their attributes is accepted (the input is ambiguous).
-    std::unordered_map<std::int64_t, std::vector<double>> seeds_of_region;
-    auto where = [](const Query& q) { return q.strict != kNone ? q.strict : q.closed; };
-    for (const auto& q : qs)
-      if (q.kind == Query::Region && where(q) != kNone)
-        seeds_of_region[have_region ? m.triangle_region[where(q)] : where(q)].push_back(
-            in.regions[q.index].attribute);
-    for (const auto& q : qs) {
-      const TriId t = where(q);
-      switch (q.kind) {
-        case Query::Hole:
-          if (t != kNone)
-            err.add("hole seed " + std::to_string(q.index) + " " + pt(q.p) + " lies in " +
-                    tri_str(t, T[t]));
-          break;
-        case Query::MissingInput:
-          if (t != kNone)
-            err.add("input point " + std::to_string(q.index) + " " + pt(q.p) +
-                    " has no mesh vertex but lies in the domain, in " + tri_str(t, T[t]));
-          break;
-        case Query::Region: {
-          if (t == kNone) {
-            err.add("region seed " + std::to_string(q.index) + " " + pt(q.p) +
-                    " lies in no triangle");
-            break;
-          }
-          if (!have_attr) break;
-          const double got = m.triangle_attribute[t];
-          const auto& cand = seeds_of_region[have_region ? m.triangle_region[t] : t];
-          if (std::find(cand.begin(), cand.end(), got) == cand.end())
-            err.add("region seed " + std::to_string(q.index) + " " + pt(q.p) + " with attribute " +
-                    fmt(in.regions[q.index].attribute) + " lies in " + tri_str(t, T[t]) +
-                    " whose attribute is " + fmt(got));
+// The first triangle holding each query point (strictly and in its closure): a uniform
+// grid over the query points, ~1 query per cell; every oriented triangle is tested
+// against the queries in the cells its bounding box overlaps.
+void Checker::locate_queries(std::vector<Query>& qs) const {
+  double x0 = qs[0].p.x, x1 = x0, y0 = qs[0].p.y, y1 = y0;
+  for (const auto& q : qs)
+    x0 = std::min(x0, q.p.x), x1 = std::max(x1, q.p.x), y0 = std::min(y0, q.p.y),
+    y1 = std::max(y1, q.p.y);
+  const int G =
+      std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(qs.size())))), 1, 1024);
+  const double dx = x1 > x0 ? (x1 - x0) / G : 1.0, dy = y1 > y0 ? (y1 - y0) / G : 1.0;
+  // floor((x - x0) / dx) is monotone in x, so a triangle's cell range covers every cell
+  // of a query inside its bounding box.
+  auto cx = [&](double x) {
+    return std::clamp(static_cast<int>(std::floor((x - x0) / dx)), 0, G - 1);
+  };
+  auto cy = [&](double y) {
+    return std::clamp(static_cast<int>(std::floor((y - y0) / dy)), 0, G - 1);
+  };
+  std::vector<std::int32_t> cstart(static_cast<std::size_t>(G) * G + 1, 0), cq(qs.size());
+  for (const auto& q : qs) ++cstart[cy(q.p.y) * G + cx(q.p.x) + 1];
+  for (std::size_t i = 1; i < cstart.size(); ++i) cstart[i] += cstart[i - 1];
+  {
+    std::vector<std::int32_t> fill(cstart.begin(), cstart.end() - 1);
+    for (std::size_t i = 0; i < qs.size(); ++i)
+      cq[fill[cy(qs[i].p.y) * G + cx(qs[i].p.x)]++] = static_cast<std::int32_t>(i);
+  }
+  for (TriId t = 0; t < nt; ++t) {
+    if (!ccw[t]) continue;
+    const Vec2 &a = V[T[t][0]], &b = V[T[t][1]], &c = V[T[t][2]];
+    const double tx0 = std::min({a.x, b.x, c.x}), tx1 = std::max({a.x, b.x, c.x});
+    const double ty0 = std::min({a.y, b.y, c.y}), ty1 = std::max({a.y, b.y, c.y});
+    if (tx1 < x0 || tx0 > x1 || ty1 < y0 || ty0 > y1) continue;
+    const int i0 = cx(tx0), i1 = cx(tx1), j0 = cy(ty0), j1 = cy(ty1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        for (std::int32_t k = cstart[j * G + i]; k < cstart[j * G + i + 1]; ++k) {
+          Query& q = qs[cq[k]];
+          if (q.strict != kNone) continue;
+          if (q.p.x < tx0 || q.p.x > tx1 || q.p.y < ty0 || q.p.y > ty1) continue;
+          const double o1 = orient(a, b, q.p), o2 = orient(b, c, q.p), o3 = orient(c, a, q.p);
+          if (o1 < 0 || o2 < 0 || o3 < 0) continue;
+          if (q.closed == kNone) q.closed = t;
+          if (o1 > 0 && o2 > 0 && o3 > 0) q.strict = t;
+        }
+  }
+}
+
+void Checker::report_queries(const std::vector<Query>& qs) {
+  // Region seeds: group by the region of their triangle; when seeds of one region
+  // disagree, any of their attributes is accepted (the input is ambiguous).
+  std::unordered_map<std::int64_t, std::vector<double>> seeds_of_region;
+  auto where = [](const Query& q) { return q.strict != kNone ? q.strict : q.closed; };
+  for (const auto& q : qs)
+    if (q.kind == Query::Region && where(q) != kNone)
+      seeds_of_region[have_region ? m.triangle_region[where(q)] : where(q)].push_back(
+          in.regions[q.index].attribute);
+  for (const auto& q : qs) {
+    const TriId t = where(q);
+    switch (q.kind) {
+      case Query::Hole:
+        if (t != kNone)
+          err.add("hole seed " + std::to_string(q.index) + " " + pt(q.p) + " lies in " +
+                  tri_str(t, T[t]));
+        break;
+      case Query::MissingInput:
+        if (t != kNone)
+          err.add("input point " + std::to_string(q.index) + " " + pt(q.p) +
+                  " has no mesh vertex but lies in the domain, in " + tri_str(t, T[t]));
+        break;
+      case Query::Region: {
+        if (t == kNone) {
+          err.add("region seed " + std::to_string(q.index) + " " + pt(q.p) +
+                  " lies in no triangle");
           break;
         }
+        if (!have_attr) break;
+        const double got = m.triangle_attribute[t];
+        const auto& cand = seeds_of_region[have_region ? m.triangle_region[t] : t];
+        if (std::find(cand.begin(), cand.end(), got) == cand.end())
+          err.add("region seed " + std::to_string(q.index) + " " + pt(q.p) + " with attribute " +
+                  fmt(in.regions[q.index].attribute) + " lies in " + tri_str(t, T[t]) +
+                  " whose attribute is " + fmt(got));
+        break;
       }
     }
   }
+}
+
+}  // namespace
+
+CheckReport check(const Mesh& m, const Pslg& in, const CheckOptions& opt) {
+  CheckReport rep;
+  Checker(m, in, opt, rep).run();
   return rep;
 }
 

@@ -13,6 +13,10 @@
 #include "predicates_filter.h"
 #include "triangulation.h"
 
+// The steps of HullDelaunay::insert are inlined into it: they are its hot path, split for
+// reading only.
+#define UVMESH_HULL_INLINE inline __attribute__((always_inline))
+
 namespace uvmesh::m2d::detail {
 
 namespace {
@@ -231,16 +235,16 @@ bool HullDelaunay::conflict_slow(const Tri& r, Vec2 p) const {
   return (a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y);
 }
 
-bool HullDelaunay::insert(VertId pv) {
-  Tri* const T = tris.data();
+// Point location: visibility walk from the last triangle made (§7.3.2 step 1), never
+// back through the edge just crossed. It terminates in a Delaunay triangulation
+// (acyclicity of the in-front relation), which this always is; the step cap guards
+// against bugs. Crossing a hull edge ends in its ghost: p is outside the hull.
+// G's coordinates are NaN: an orientation test involving G is NaN (never < 0), so the
+// walk stops in the first ghost it enters without testing for ghosts on every step.
+// Returns the triangle reached (o: p's orientations against its edges), or -1.
+UVMESH_HULL_INLINE std::int32_t HullDelaunay::walk(Vec2 p, double* o) const {
+  const Tri* const T = tris.data();
   const Vec2* const P = pts.data();
-  const Vec2 p = P[pv];
-  // Point location: visibility walk from the last triangle made (§7.3.2 step 1), never
-  // back through the edge just crossed. It terminates in a Delaunay triangulation
-  // (acyclicity of the in-front relation), which this always is; the step cap guards
-  // against bugs. Crossing a hull edge ends in its ghost: p is outside the hull.
-  // G's coordinates are NaN: an orientation test involving G is NaN (never < 0), so the
-  // walk stops in the first ghost it enters without testing for ghosts on every step.
   auto side = [&](VertId a, VertId b) {
     const double d = pred::detail::orient2d_filter(&P[a].x, &P[b].x, &p.x);
     if (d != 0) [[likely]]
@@ -249,54 +253,47 @@ bool HullDelaunay::insert(VertId pv) {
     return pred::detail::orient2d_slow(&P[a].x, &P[b].x, &p.x);
   };
   std::int32_t t = last_;
-  double o[3];
-  {
-    const Tri& r = T[t];
-    int cross = -1;
-    for (int i = 0; i < 3; ++i) {
-      o[i] = side(r.v[next3(i)], r.v[prev3(i)]);
-      if (o[i] < 0) {
-        cross = i;
-        break;
-      }
-    }
-    const std::int64_t cap = static_cast<std::int64_t>(tris.size()) + 64;
-    for (std::int64_t steps = 0; cross >= 0; ++steps) {
-      if (steps > cap) return false;
-      const std::int32_t h = T[t].n[cross];
-      t = h >> 2;
-      const Tri& s = T[t];
-      // Entered through edge j: p is strictly inside it; test the two others.
-      const int j = h & 3, i1 = next3(j), i2 = prev3(j);
-      o[j] = 1;
-      cross = -1;
-      o[i1] = side(s.v[i2], s.v[j]);
-      if (o[i1] < 0) {
-        cross = i1;
-        continue;
-      }
-      o[i2] = side(s.v[j], s.v[i1]);
-      if (o[i2] < 0) cross = i2;
+  const Tri& r = T[t];
+  int cross = -1;
+  for (int i = 0; i < 3; ++i) {
+    o[i] = side(r.v[next3(i)], r.v[prev3(i)]);
+    if (o[i] < 0) {
+      cross = i;
+      break;
     }
   }
-  const bool outside = ghost(T[t]);
-  if (!outside) {
-    // On two edges of t: p is their common vertex, an exact duplicate.
-    for (int i = 0; i < 3; ++i)
-      if (o[next3(i)] == 0 && o[prev3(i)] == 0) {
-        const VertId v = T[t].v[i];
-        if (P[v].x != p.x || P[v].y != p.y) return false;  // cannot happen (exact)
-        dups.push_back({pv, v});
-        return true;
-      }
+  const std::int64_t cap = static_cast<std::int64_t>(tris.size()) + 64;
+  for (std::int64_t steps = 0; cross >= 0; ++steps) {
+    if (steps > cap) return -1;
+    const std::int32_t h = T[t].n[cross];
+    t = h >> 2;
+    const Tri& s = T[t];
+    // Entered through edge j: p is strictly inside it; test the two others.
+    const int j = h & 3, i1 = next3(j), i2 = prev3(j);
+    o[j] = 1;
+    cross = -1;
+    o[i1] = side(s.v[i2], s.v[j]);
+    if (o[i1] < 0) {
+      cross = i1;
+      continue;
+    }
+    o[i2] = side(s.v[j], s.v[i1]);
+    if (o[i2] < 0) cross = i2;
   }
+  return t;
+}
 
-  // Cavity (§7.1.3): the triangles whose open circumdisk holds p, grown by adjacency from
-  // the base t (which holds p, or is the ghost of a hull edge p is beyond). Depth first,
-  // each triangle's far edges in counter-clockwise order, so that the boundary edges come
-  // out as one counter-clockwise chain around p. In a Delaunay triangulation the cavity
-  // is a disk with every vertex on its boundary (its dual is a tree): no triangle is
-  // reached twice, no marks are needed; the edge count below checks it.
+// Cavity (§7.1.3): the triangles whose open circumdisk holds p, grown by adjacency from
+// the base t (which holds p, or is the ghost of a hull edge p is beyond). Depth first,
+// each triangle's far edges in counter-clockwise order, so that the boundary edges come
+// out as one counter-clockwise chain around p. In a Delaunay triangulation the cavity
+// is a disk with every vertex on its boundary (its dual is a tree): no triangle is
+// reached twice, no marks are needed; the edge count checks it. Fills cav_ (nc
+// triangles) and ball_ (m boundary edges); false when it is not a disk.
+UVMESH_HULL_INLINE bool HullDelaunay::grow_cavity(std::int32_t t, Vec2 p, std::size_t& nc,
+                                                  std::size_t& m) {
+  const Tri* const T = tris.data();
+  const Vec2* const P = pts.data();
   auto conflict = [&](const Tri& r) {
     // The inline filter decides almost always; a ghost (NaN coordinates) or a nearly
     // cocircular case falls through to conflict_slow.
@@ -316,7 +313,8 @@ bool HullDelaunay::insert(VertId pv) {
   std::int32_t* stk = stack_.data();
   std::int32_t* cav = cav_.data();
   NewTri* ball = ball_.data();
-  std::size_t ns = 0, nc = 0, m = 0;
+  std::size_t ns = 0;
+  nc = 0, m = 0;
   // The triangles across the edges about to be tested are fetched ahead (the cavity test
   // of a neighbour waits on its vertex ids, then on their coordinates).
   __builtin_prefetch(&T[T[t].n[0] >> 2]);
@@ -352,10 +350,15 @@ bool HullDelaunay::insert(VertId pv) {
       ball[m++] = {r.v[next3(e)], r.v[prev3(e)], g};
     }
   }
-  if (m != nc + 2) return false;  // not a disk: cannot happen (exact predicates)
+  return m == nc + 2;  // else not a disk: cannot happen (exact predicates)
+}
 
-  // Ball (eq. 7.2): triangle k = (a_k, b_k, p) on boundary edge k; the cavity's slots
-  // are reused and two are added. Consecutive ones share the edge (b_k = a_k+1, p).
+// Ball (eq. 7.2): triangle k = (a_k, b_k, p) on boundary edge k; the cavity's slots
+// are reused and two are added. Consecutive ones share the edge (b_k = a_k+1, p).
+UVMESH_HULL_INLINE bool HullDelaunay::make_ball(VertId pv, std::size_t nc, std::size_t m) {
+  Tri* const T = tris.data();
+  std::int32_t* cav = cav_.data();
+  const NewTri* ball = ball_.data();
   const std::int32_t nt = static_cast<std::int32_t>(tris.size());
   cav[nc++] = nt;
   cav[nc++] = nt + 1;
@@ -382,4 +385,23 @@ bool HullDelaunay::insert(VertId pv) {
   return real >= 0;
 }
 
+bool HullDelaunay::insert(VertId pv) {
+  const Vec2 p = pts[pv];
+  double o[3];
+  const std::int32_t t = walk(p, o);
+  if (t < 0) return false;
+  if (!ghost(tris[t])) {
+    // On two edges of t: p is their common vertex, an exact duplicate.
+    for (int i = 0; i < 3; ++i)
+      if (o[next3(i)] == 0 && o[prev3(i)] == 0) {
+        const VertId v = tris[t].v[i];
+        if (pts[v].x != p.x || pts[v].y != p.y) return false;  // cannot happen (exact)
+        dups.push_back({pv, v});
+        return true;
+      }
+  }
+  std::size_t nc = 0, m = 0;
+  if (!grow_cavity(t, p, nc, m)) return false;
+  return make_ball(pv, nc, m);
+}
 }  // namespace uvmesh::m2d::detail

@@ -56,99 +56,69 @@ Quality measure(const std::vector<Vec2>& vertices, const std::vector<std::array<
 
 namespace detail {
 
-Quality measure_with_edges(const std::vector<Vec2>& vertices,
-                           const std::vector<std::array<VertId, 3>>& tris, const SizeSpec& size,
-                           std::vector<std::uint64_t>* known_edges) {
-  Quality out;
-  if (tris.empty()) return out;
-  const bool has_metric = !(size.kind == SizeSpec::Kind::Uniform && size.h <= 0);
-  std::vector<Metric2> vm;
-  // A uniform field has one metric: no per-vertex copy (half a million on a 1e6 mesh).
-  const Metric2 m_uniform = size.kind == SizeSpec::Kind::Uniform && has_metric
-                                ? detail::metric_at(size, 0, 0)
-                                : Metric2{};
-  if (has_metric && size.kind != SizeSpec::Kind::Uniform) {
-    vm.resize(vertices.size());
-    for (std::size_t i = 0; i < vertices.size(); ++i)
-      vm[i] = detail::metric_at(size, vertices[i].x, vertices[i].y);
-  }
-  double qsum = 0, mqsum = 0;
-  std::int64_t n15 = 0, n2 = 0, mn15 = 0, mn2 = 0;
-  double cmax = -1, cmin = 1, mcmax = -1, mcmin = 1;
-  // A uniform field's metric is a scaling: the shape in it is the Euclidean one.
-  const bool metric_shapes = has_metric && size.kind != SizeSpec::Kind::Uniform;
-  for (const auto& t : tris) {
-    const Vec2 a = vertices[t[0]], b = vertices[t[1]], c = vertices[t[2]];
-    // The Euclidean shape as shape() computes it, with one division per triangle: the
-    // extreme cosines are compared as cross-multiplied fractions and divided out only
-    // when they beat the running extreme (a million-triangle mesh has a few such).
-    const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - b.x, vy = c.y - b.y, wx = a.x - c.x,
-                 wy = a.y - c.y;
-    const double ab = std::sqrt(ux * ux + uy * uy), bc = std::sqrt(vx * vx + vy * vy),
-                 ca = std::sqrt(wx * wx + wy * wy);
-    const double area2 = ux * (c.y - a.y) - uy * (c.x - a.x);
-    if (!(area2 > 0)) {
-      out.q_max = std::numeric_limits<double>::infinity();
-      qsum = std::numeric_limits<double>::infinity();
-      cmax = 1, cmin = -1;
-    } else {
-      const double q = kAlpha * std::max({ab, bc, ca}) * (ab + bc + ca) / area2;
-      out.q_max = std::max(out.q_max, q);
-      qsum += q;
-      n15 += q < 1.5;
-      n2 += q < 2;
-      // cos at a = -(u.w)/(|u||w|), at b = -(u.v)/(|u||v|), at c = -(v.w)/(|v||w|)
-      const double na = -(ux * wx + uy * wy), da = ab * ca;
-      const double nb = -(ux * vx + uy * vy), db = ab * bc;
-      const double nc = -(vx * wx + vy * wy), dc = bc * ca;
-      if (na > cmax * da) cmax = std::max(cmax, na / da);
-      if (nb > cmax * db) cmax = std::max(cmax, nb / db);
-      if (nc > cmax * dc) cmax = std::max(cmax, nc / dc);
-      if (na < cmin * da) cmin = std::min(cmin, na / da);
-      if (nb < cmin * db) cmin = std::min(cmin, nb / db);
-      if (nc < cmin * dc) cmin = std::min(cmin, nc / dc);
-    }
-    if (metric_shapes) {
-      // Shape in the metric: the mean of the vertex metrics (a convex combination of SPD
-      // tensors is SPD) stands for the metric over K.
-      const detail::MetricFrame f(detail::mean3(vm[t[0]], vm[t[1]], vm[t[2]]));
-      const Shape ms = shape(f(a), f(b), f(c));
-      out.metric_q_max = std::max(out.metric_q_max, ms.q);
-      mqsum += ms.q;
-      mn15 += ms.q < 1.5;
-      mn2 += ms.q < 2;
-      mcmax = std::max(mcmax, ms.cmax);
-      mcmin = std::min(mcmin, ms.cmin);
-    }
-  }
-  if (has_metric && !metric_shapes) {
-    out.metric_q_max = out.q_max;
-    mqsum = qsum, mn15 = n15, mn2 = n2, mcmax = cmax, mcmin = cmin;
-  }
-  const double nt = static_cast<double>(tris.size());
-  out.min_angle_deg = deg(cmax);
-  out.max_angle_deg = deg(cmin);
-  out.metric_min_angle_deg = deg(mcmax);
-  out.metric_max_angle_deg = deg(mcmin);
-  out.q_mean = qsum / nt;
-  out.share_q_below_1_5 = n15 / nt;
-  out.share_q_below_2 = n2 / nt;
-  if (!has_metric) {
-    out.metric_q_max = out.q_max;
-    out.metric_q_mean = out.q_mean;
-    out.metric_share_q_below_1_5 = out.share_q_below_1_5;
-    out.metric_share_q_below_2 = out.share_q_below_2;
-    out.metric_min_angle_deg = out.min_angle_deg;
-    out.metric_max_angle_deg = out.max_angle_deg;
-    return out;
-  }
-  out.metric_q_mean = mqsum / nt;
-  out.metric_share_q_below_1_5 = mn15 / nt;
-  out.metric_share_q_below_2 = mn2 / nt;
+namespace {
 
-  // Unit-edge share: every undirected edge once, length in the metric by eq. 7.10 with
-  // Simpson's rule on the true field (endpoints and midpoint).
-  // (known_edges: every undirected edge once, given by a caller that has the adjacency.)
+// Running shape measures of a triangle set: the largest and summed Q_K, the counts under
+// 1.5 and 2, and the extreme angle cosines.
+struct ShapeSums {
+  double q_max = 0, qsum = 0;
+  std::int64_t n15 = 0, n2 = 0;
+  double cmax = -1, cmin = 1;
+};
+
+// The Euclidean shape of abc as shape() computes it, with one division per triangle: the
+// extreme cosines are compared as cross-multiplied fractions and divided out only when
+// they beat the running extreme (a million-triangle mesh has a few such).
+void add_euclidean_shape(ShapeSums& e, Vec2 a, Vec2 b, Vec2 c) {
+  const double ux = b.x - a.x, uy = b.y - a.y, vx = c.x - b.x, vy = c.y - b.y, wx = a.x - c.x,
+               wy = a.y - c.y;
+  const double ab = std::sqrt(ux * ux + uy * uy), bc = std::sqrt(vx * vx + vy * vy),
+               ca = std::sqrt(wx * wx + wy * wy);
+  const double area2 = ux * (c.y - a.y) - uy * (c.x - a.x);
+  if (!(area2 > 0)) {
+    e.q_max = std::numeric_limits<double>::infinity();
+    e.qsum = std::numeric_limits<double>::infinity();
+    e.cmax = 1, e.cmin = -1;
+    return;
+  }
+  const double q = kAlpha * std::max({ab, bc, ca}) * (ab + bc + ca) / area2;
+  e.q_max = std::max(e.q_max, q);
+  e.qsum += q;
+  e.n15 += q < 1.5;
+  e.n2 += q < 2;
+  // cos at a = -(u.w)/(|u||w|), at b = -(u.v)/(|u||v|), at c = -(v.w)/(|v||w|)
+  const double na = -(ux * wx + uy * wy), da = ab * ca;
+  const double nb = -(ux * vx + uy * vy), db = ab * bc;
+  const double nc = -(vx * wx + vy * wy), dc = bc * ca;
+  if (na > e.cmax * da) e.cmax = std::max(e.cmax, na / da);
+  if (nb > e.cmax * db) e.cmax = std::max(e.cmax, nb / db);
+  if (nc > e.cmax * dc) e.cmax = std::max(e.cmax, nc / dc);
+  if (na < e.cmin * da) e.cmin = std::min(e.cmin, na / da);
+  if (nb < e.cmin * db) e.cmin = std::min(e.cmin, nb / db);
+  if (nc < e.cmin * dc) e.cmin = std::min(e.cmin, nc / dc);
+}
+
+// Shape in the metric: the mean of the vertex metrics (a convex combination of SPD
+// tensors is SPD) stands for the metric over K.
+void add_metric_shape(ShapeSums& s, Vec2 a, Vec2 b, Vec2 c, const Metric2& ma, const Metric2& mb,
+                      const Metric2& mc) {
+  const detail::MetricFrame f(detail::mean3(ma, mb, mc));
+  const Shape ms = shape(f(a), f(b), f(c));
+  s.q_max = std::max(s.q_max, ms.q);
+  s.qsum += ms.q;
+  s.n15 += ms.q < 1.5;
+  s.n2 += ms.q < 2;
+  s.cmax = std::max(s.cmax, ms.cmax);
+  s.cmin = std::min(s.cmin, ms.cmin);
+}
+
+// Unit-edge share and edge lengths: every undirected edge once, length in the metric by
+// eq. 7.10 with Simpson's rule on the true field (endpoints and midpoint). known_edges:
+// every undirected edge once, given by a caller that has the adjacency (else found here).
+void measure_edges(Quality& out, const std::vector<Vec2>& vertices,
+                   const std::vector<std::array<VertId, 3>>& tris, const SizeSpec& size,
+                   const std::vector<Metric2>& vm, const Metric2& m_uniform,
+                   const std::vector<std::uint64_t>* known_edges) {
   std::vector<std::uint64_t> own;
   if (!known_edges) {
     own.reserve(tris.size() * 3);
@@ -187,6 +157,59 @@ Quality measure_with_edges(const std::vector<Vec2>& vertices,
   out.edges = static_cast<std::int64_t>(edges.size());
   out.unit_edge_share = static_cast<double>(unit) / static_cast<double>(edges.size());
   out.edge_len_mean = lsum / static_cast<double>(edges.size());
+}
+
+}  // namespace
+
+Quality measure_with_edges(const std::vector<Vec2>& vertices,
+                           const std::vector<std::array<VertId, 3>>& tris, const SizeSpec& size,
+                           std::vector<std::uint64_t>* known_edges) {
+  Quality out;
+  if (tris.empty()) return out;
+  const bool has_metric = !(size.kind == SizeSpec::Kind::Uniform && size.h <= 0);
+  std::vector<Metric2> vm;
+  // A uniform field has one metric: no per-vertex copy (half a million on a 1e6 mesh).
+  const Metric2 m_uniform = size.kind == SizeSpec::Kind::Uniform && has_metric
+                                ? detail::metric_at(size, 0, 0)
+                                : Metric2{};
+  if (has_metric && size.kind != SizeSpec::Kind::Uniform) {
+    vm.resize(vertices.size());
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+      vm[i] = detail::metric_at(size, vertices[i].x, vertices[i].y);
+  }
+  ShapeSums e, ms;  // Euclidean and metric
+  // A uniform field's metric is a scaling: the shape in it is the Euclidean one.
+  const bool metric_shapes = has_metric && size.kind != SizeSpec::Kind::Uniform;
+  for (const auto& t : tris) {
+    const Vec2 a = vertices[t[0]], b = vertices[t[1]], c = vertices[t[2]];
+    add_euclidean_shape(e, a, b, c);
+    if (metric_shapes) add_metric_shape(ms, a, b, c, vm[t[0]], vm[t[1]], vm[t[2]]);
+  }
+  out.q_max = e.q_max;
+  out.metric_q_max = ms.q_max;
+  if (has_metric && !metric_shapes) ms = e;
+  const double nt = static_cast<double>(tris.size());
+  out.min_angle_deg = deg(e.cmax);
+  out.max_angle_deg = deg(e.cmin);
+  out.metric_min_angle_deg = deg(ms.cmax);
+  out.metric_max_angle_deg = deg(ms.cmin);
+  out.q_mean = e.qsum / nt;
+  out.share_q_below_1_5 = e.n15 / nt;
+  out.share_q_below_2 = e.n2 / nt;
+  if (!has_metric) {
+    out.metric_q_max = out.q_max;
+    out.metric_q_mean = out.q_mean;
+    out.metric_share_q_below_1_5 = out.share_q_below_1_5;
+    out.metric_share_q_below_2 = out.share_q_below_2;
+    out.metric_min_angle_deg = out.min_angle_deg;
+    out.metric_max_angle_deg = out.max_angle_deg;
+    return out;
+  }
+  out.metric_q_max = ms.q_max;
+  out.metric_q_mean = ms.qsum / nt;
+  out.metric_share_q_below_1_5 = ms.n15 / nt;
+  out.metric_share_q_below_2 = ms.n2 / nt;
+  measure_edges(out, vertices, tris, size, vm, m_uniform, known_edges);
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <deque>
 #include <utility>
 
+#include "huge_pages.h"
 #include "predicates_filter.h"
 #include "uvmesh/mesher2d/predicates.h"
 
@@ -20,33 +21,39 @@ inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 void Triangulation::init_box(double xmin, double ymin, double xmax, double ymax,
                              std::size_t reserve_pts) {
-  pts.clear();
-  vtri.clear();
-  tv.clear();
-  opp.clear();
-  seg.clear();
-  tag.clear();
+  pts_.clear();
+  vtri_.clear();
+  tv_.clear();
+  opp_.clear();
+  seg_.clear();
+  tag_.clear();
   free_.clear();
-  pts.reserve(reserve_pts + 4);
-  vtri.reserve(reserve_pts + 4);
-  tv.reserve(6 * reserve_pts + 12);
-  opp.reserve(6 * reserve_pts + 12);
-  seg.reserve(6 * reserve_pts + 12);
-  tag.reserve(2 * reserve_pts + 4);
-  pts = {{xmin, ymin}, {xmax, ymin}, {xmax, ymax}, {xmin, ymax}};
+  pts_.reserve(reserve_pts + 4);
+  vtri_.reserve(reserve_pts + 4);
+  tv_.reserve(6 * reserve_pts + 12);
+  opp_.reserve(6 * reserve_pts + 12);
+  seg_.reserve(6 * reserve_pts + 12);
+  tag_.reserve(2 * reserve_pts + 4);
+  pts_ = {{xmin, ymin}, {xmax, ymin}, {xmax, ymax}, {xmin, ymax}};
   // t0 = (0,1,2), t1 = (0,2,3); t0's e1 (2->0) is t1's e2 (0->2).
-  tv = {0, 1, 2, 0, 2, 3};
-  opp.assign(6, kNone);
-  seg.assign(6, kNone);
-  tag.assign(2, 0);
+  tv_ = {0, 1, 2, 0, 2, 3};
+  opp_.assign(6, kNone);
+  seg_.assign(6, kNone);
+  tag_.assign(2, 0);
   link(1, 5);
-  vtri = {0, 0, 0, 1};
+  vtri_ = {0, 0, 0, 1};
+}
+
+void Triangulation::reserve_huge(std::size_t nv) {
+  detail::reserve_huge(pts_, nv), detail::reserve_huge(vtri_, nv);
+  detail::reserve_huge(tv_, 6 * nv), detail::reserve_huge(opp_, 6 * nv);
+  detail::reserve_huge(seg_, 6 * nv), detail::reserve_huge(tag_, 2 * nv);
 }
 
 VertId Triangulation::add_vertex(Vec2 p) {
-  pts.push_back(p);
-  vtri.push_back(kNone);
-  return static_cast<VertId>(pts.size() - 1);
+  pts_.push_back(p);
+  vtri_.push_back(kNone);
+  return static_cast<VertId>(pts_.size() - 1);
 }
 
 TriId Triangulation::new_tri() {
@@ -57,11 +64,11 @@ TriId Triangulation::new_tri() {
   }
   TriId t = num_tris();
   for (int i = 0; i < 3; ++i) {
-    tv.push_back(kNone);
-    opp.push_back(kNone);
-    seg.push_back(kNone);
+    tv_.push_back(kNone);
+    opp_.push_back(kNone);
+    seg_.push_back(kNone);
   }
-  tag.push_back(0);
+  tag_.push_back(0);
   return t;
 }
 
@@ -86,8 +93,8 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
   // exact orientation is antisymmetric, and it was negative from the other side), so
   // its orientation is reported as 1; of the other two, a random one first.
   const std::int64_t cap = 4 * static_cast<std::int64_t>(num_tris()) + 64;
-  const VertId* const TV = tv.data();
-  const Vec2* const P = pts.data();
+  const VertId* const TV = tv_.data();
+  const Vec2* const P = pts_.data();
   auto side = [&](TriId s, int i) {
     return orient(P[TV[3 * s + next3(i)]], P[TV[3 * s + prev3(i)]], p);
   };
@@ -125,7 +132,7 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
       if (orients) orients[0] = o[0], orients[1] = o[1], orients[2] = o[2];
       return t;
     }
-    const std::int32_t h = opp[3 * t + cross];
+    const std::int32_t h = opp_[3 * t + cross];
     if (h == kNone) return kNone;  // outside the box
     t = h / 3;
     entered = h - 3 * t;
@@ -135,11 +142,11 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
     if (dead(s)) continue;
     bool in = true;
     for (int i = 0; i < 3 && in; ++i)
-      in = orient(pts[tv[3 * s + next3(i)]], pts[tv[3 * s + prev3(i)]], p) >= 0;
+      in = orient(pts_[tv_[3 * s + next3(i)]], pts_[tv_[3 * s + prev3(i)]], p) >= 0;
     if (in) {
       if (orients)
         for (int i = 0; i < 3; ++i)
-          orients[i] = orient(pts[tv[3 * s + next3(i)]], pts[tv[3 * s + prev3(i)]], p);
+          orients[i] = orient(pts_[tv_[3 * s + next3(i)]], pts_[tv_[3 * s + prev3(i)]], p);
       return s;
     }
   }
@@ -148,9 +155,9 @@ TriId Triangulation::locate(Vec2 p, TriId hint, double* orients) const {
 
 bool Triangulation::in_cavity_metric(TriId t, Vec2 p,
                                      const InsertParams& /*prm: its frame is frame_*/) const {
-  const Vec2& a = pts[tv[3 * t]];
-  const Vec2& b = pts[tv[3 * t + 1]];
-  const Vec2& c = pts[tv[3 * t + 2]];
+  const Vec2& a = pts_[tv_[3 * t]];
+  const Vec2& b = pts_[tv_[3 * t + 1]];
+  const Vec2& c = pts_[tv_[3 * t + 2]];
   // eq. 7.15-7.16 with M approached by M(P): in coordinates where M(P) is the identity
   // (x -> R x with M = R^T R, R upper triangular with a positive diagonal, so orientation is
   // kept) the metric circumcircle of K is the Euclidean one, and alpha_M(P)(P,K) < 1 is an
@@ -170,15 +177,15 @@ InsertResult Triangulation::insert_point(Vec2 p, TriId hint, const InsertParams&
   const VertId v = add_vertex(p);
   InsertResult r = insert(v, hint, prm);
   if (r.status != InsertStatus::Inserted) {
-    pts.pop_back();
-    vtri.pop_back();
+    pts_.pop_back();
+    vtri_.pop_back();
   }
   return r;
 }
 
 InsertResult Triangulation::insert(VertId v, TriId hint, const InsertParams& prm) {
   double o0[3];
-  const TriId t0 = locate(pts[v], hint, o0);
+  const TriId t0 = locate(pts_[v], hint, o0);
   if (t0 == kNone) return {InsertStatus::Outside, kNone};
   return insert_located(v, t0, o0, prm);
 }
@@ -188,15 +195,15 @@ InsertResult Triangulation::insert_point_located(Vec2 p, TriId t0, const double*
   const VertId v = add_vertex(p);
   InsertResult r = insert_located(v, t0, o0, prm);
   if (r.status != InsertStatus::Inserted) {
-    pts.pop_back();
-    vtri.pop_back();
+    pts_.pop_back();
+    vtri_.pop_back();
   }
   return r;
 }
 
 InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
                                            const InsertParams& prm) {
-  const Vec2 p = pts[v];
+  const Vec2 p = pts_[v];
   if (prm.use_metric) {
     // M(P) = R^T R, R = [[l11, l12], [0, l22]]: the frame of in_cavity_metric's test.
     const double l11 = std::sqrt(prm.m.m11);
@@ -213,10 +220,10 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
   epoch_ += 3;
   const std::uint32_t IN = epoch_, OUT = epoch_ + 1, CAND = epoch_ + 2;
   std::uint32_t* const mark = mark_.data();
-  const VertId* const TV = tv.data();
-  const std::int32_t* const OPP = opp.data();
-  const std::int32_t* const SEG = seg.data();
-  const Vec2* const P = pts.data();
+  const VertId* const TV = tv_.data();
+  const std::int32_t* const OPP = opp_.data();
+  const std::int32_t* const SEG = seg_.data();
+  const Vec2* const P = pts_.data();
 
   cav_.clear();
   cav_.push_back(t0);
@@ -308,10 +315,10 @@ InsertResult Triangulation::insert_located(VertId v, TriId t0, const double* o0,
 // writing the per-triangle marks (a word per triangle, away from the triangle's own data)
 // was a cache miss per tested neighbour.
 bool Triangulation::cavity_unmarked(TriId t0, Vec2 p, const InsertParams& prm) {
-  const VertId* const TV = tv.data();
-  const std::int32_t* const OPP = opp.data();
-  const std::int32_t* const SEG = seg.data();
-  const Vec2* const P = pts.data();
+  const VertId* const TV = tv_.data();
+  const std::int32_t* const OPP = opp_.data();
+  const std::int32_t* const SEG = seg_.data();
+  const Vec2* const P = pts_.data();
   TriId* const cav = fcav_.data();
   std::int32_t* const par = fpar_.data();
   BoundaryEdge* const bd = fbd_.data();
@@ -348,7 +355,7 @@ bool Triangulation::cavity_unmarked(TriId t0, Vec2 p, const InsertParams& prm) {
 // (bd[0..m)) are known and the cavity is star-shaped.
 InsertResult Triangulation::make_ball(VertId v, TriId t0, const InsertParams& prm, const TriId* cav,
                                       std::size_t nc, const BoundaryEdge* bd, std::size_t m) {
-  const Vec2* const P = pts.data();
+  const Vec2* const P = pts_.data();
   const Vec2 p = P[v];
   // A star-shaped topological disk with m boundary edges holds m - 2 triangles; more
   // means a vertex strictly inside the cavity, which the ball would lose.
@@ -364,15 +371,15 @@ InsertResult Triangulation::make_ball(VertId v, TriId t0, const InsertParams& pr
   // The cavity's slots are reused, last first (the order in which a free list would hand
   // them back), and the two more (m = |cavity| + 2) come from the free list or the end of
   // the arrays.
-  const std::int32_t the_tag = tag[t0];
-  if (vstart_.size() < pts.size()) vstart_.resize(pts.size() + pts.size() / 2 + 16);
+  const std::int32_t the_tag = tag_[t0];
+  if (vstart_.size() < pts_.size()) vstart_.resize(pts_.size() + pts_.size() / 2 + 16);
   auto& nt = nt_;
   nt.resize(m);
   for (std::size_t k = 0; k < m; ++k) nt[k] = k < nc ? cav[nc - 1 - k] : new_tri();
-  VertId* const TVw = tv.data();
-  std::int32_t* const OPPw = opp.data();
-  std::int32_t* const SEGw = seg.data();
-  std::int32_t* const TAG = tag.data();
+  VertId* const TVw = tv_.data();
+  std::int32_t* const OPPw = opp_.data();
+  std::int32_t* const SEGw = seg_.data();
+  std::int32_t* const TAG = tag_.data();
   std::int32_t* const VS = vstart_.data();
   for (std::size_t k = 0; k < m; ++k) {
     const TriId t = nt[k];
@@ -386,7 +393,7 @@ InsertResult Triangulation::make_ball(VertId v, TriId t0, const InsertParams& pr
     OPPw[3 * t + 2] = e.out;
     if (e.out != kNone) OPPw[e.out] = 3 * t + 2;
     VS[e.a] = static_cast<std::int32_t>(k);
-    vtri[e.a] = t;
+    vtri_[e.a] = t;
   }
   for (std::size_t k = 0; k < m; ++k) {
     // Edge 0 of (a, b, P) is (b, P); its twin is edge 1 (P, b) of the triangle starting at b.
@@ -395,7 +402,7 @@ InsertResult Triangulation::make_ball(VertId v, TriId t0, const InsertParams& pr
     OPPw[3 * t] = 3 * u + 1;
     OPPw[3 * u + 1] = 3 * t;
   }
-  vtri[v] = nt[0];
+  vtri_[v] = nt[0];
   if (mark_.size() < static_cast<std::size_t>(num_tris())) mark_.resize(2 * num_tris() + 8, 0);
   return {InsertStatus::Inserted, v};
 }
@@ -410,9 +417,9 @@ bool Triangulation::star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, st
       const TriId t = cav_[k];
       if (mark_[t] != IN) continue;
       for (int i = 0; i < 3; ++i) {
-        const std::int32_t h = opp[3 * t + i];
-        if (h != kNone && seg[3 * t + i] == kNone && mark_[h / 3] == IN) continue;
-        if (orient(pts[tv[3 * t + next3(i)]], pts[tv[3 * t + prev3(i)]], p) <= 0) {
+        const std::int32_t h = opp_[3 * t + i];
+        if (h != kNone && seg_[3 * t + i] == kNone && mark_[h / 3] == IN) continue;
+        if (orient(pts_[tv_[3 * t + next3(i)]], pts_[tv_[3 * t + prev3(i)]], p) <= 0) {
           mark_[t] = OUT;
           changed = true;
           break;
@@ -436,8 +443,8 @@ bool Triangulation::star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, st
       const TriId t = stack_.back();
       stack_.pop_back();
       for (int i = 0; i < 3; ++i) {
-        if (seg[3 * t + i] != kNone) continue;
-        const std::int32_t h = opp[3 * t + i];
+        if (seg_[3 * t + i] != kNone) continue;
+        const std::int32_t h = opp_[3 * t + i];
         if (h != kNone && mark_[h / 3] == CAND) {
           mark_[h / 3] = IN;
           stack_.push_back(h / 3);
@@ -457,10 +464,10 @@ bool Triangulation::star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, st
     bool bad = false;
     for (const TriId t : cav_)
       for (int i = 0; i < 3; ++i) {
-        const std::int32_t h = opp[3 * t + i];
-        if (h != kNone && seg[3 * t + i] == kNone && mark_[h / 3] == IN) continue;
+        const std::int32_t h = opp_[3 * t + i];
+        if (h != kNone && seg_[3 * t + i] == kNone && mark_[h / 3] == IN) continue;
         bnd_.push_back(3 * t + i);
-        if (orient(pts[tv[3 * t + next3(i)]], pts[tv[3 * t + prev3(i)]], p) <= 0) bad = true;
+        if (orient(pts_[tv_[3 * t + next3(i)]], pts_[tv_[3 * t + prev3(i)]], p) <= 0) bad = true;
       }
     if (!bad) return true;
     if (!changed) return false;  // a base triangle does not see P: cannot correct
@@ -473,18 +480,18 @@ Triangulation::Wedge Triangulation::find_wedge(VertId a, Vec2 q) const {
   // (u strictly right of a->q, w strictly left), or until a neighbour of a lies on the
   // ray from a toward q. Shared by boundary enforcement and segment_clear.
   Wedge r;
-  const Vec2 pa = pts[a];
-  TriId t = vtri[a];
+  const Vec2 pa = pts_[a];
+  TriId t = vtri_[a];
   if (t == kNone) return r;
   const TriId tstart = t;
   auto ahead = [&](VertId z) {
-    return (pts[z].x - pa.x) * (q.x - pa.x) + (pts[z].y - pa.y) * (q.y - pa.y) > 0;
+    return (pts_[z].x - pa.x) * (q.x - pa.x) + (pts_[z].y - pa.y) * (q.y - pa.y) > 0;
   };
   for (int guard = 0; guard < (1 << 20); ++guard) {
     int k = 0;
-    while (tv[3 * t + k] != a) ++k;
-    const VertId x = tv[3 * t + next3(k)], y = tv[3 * t + prev3(k)];
-    const double ox = orient(pa, q, pts[x]), oy = orient(pa, q, pts[y]);
+    while (tv_[3 * t + k] != a) ++k;
+    const VertId x = tv_[3 * t + next3(k)], y = tv_[3 * t + prev3(k)];
+    const double ox = orient(pa, q, pts_[x]), oy = orient(pa, q, pts_[y]);
     if (ox == 0 && ahead(x)) {
       r.ray = x;
       r.ray_edge = 3 * t + prev3(k);  // edge (a, x)
@@ -499,7 +506,7 @@ Triangulation::Wedge Triangulation::find_wedge(VertId a, Vec2 q) const {
       r.t = t, r.u = x, r.w = y;
       return r;
     }
-    const std::int32_t g = opp[3 * t + prev3(k)];
+    const std::int32_t g = opp_[3 * t + prev3(k)];
     if (g == kNone) return r;  // a on the box border: never for mesh vertices
     t = g / 3;
     if (t == tstart) return r;  // no wedge: inconsistent triangulation (bug guard)
@@ -511,33 +518,33 @@ bool Triangulation::segment_clear(VertId a, Vec2 p) const {
   // Walk from vertex a toward point p (as the enforcement walk does) and report whether
   // the open segment crosses a constrained edge or passes through a vertex before it
   // reaches the triangle holding p.
-  const Vec2 pa = pts[a];
+  const Vec2 pa = pts_[a];
   const Wedge wg = find_wedge(a, p);
   if (wg.ray != kNone) {
     // Along an edge from a: p lies on that edge (clear if it is not constrained) or
     // beyond its far vertex (not clear: the segment passes through that vertex).
-    const Vec2 z = pts[wg.ray];
+    const Vec2 z = pts_[wg.ray];
     const double dz = (z.x - pa.x) * (z.x - pa.x) + (z.y - pa.y) * (z.y - pa.y);
     const double dp = (p.x - pa.x) * (p.x - pa.x) + (p.y - pa.y) * (p.y - pa.y);
-    return dz > dp && seg[wg.ray_edge] == kNone;
+    return dz > dp && seg_[wg.ray_edge] == kNone;
   }
   if (wg.t == kNone) return false;
   TriId t = wg.t;
   VertId u = wg.u, w = wg.w;
   for (int guard = 0; guard < (1 << 24); ++guard) {
     int e = 0;
-    while (!(tv[3 * t + next3(e)] == u && tv[3 * t + prev3(e)] == w)) ++e;
+    while (!(tv_[3 * t + next3(e)] == u && tv_[3 * t + prev3(e)] == w)) ++e;
     const std::int32_t h = 3 * t + e;
     // p inside the current triangle, or on its far edge (clear unless constrained).
-    const double op = orient(pts[u], pts[w], p);
+    const double op = orient(pts_[u], pts_[w], p);
     if (op > 0) return true;
-    if (op == 0) return seg[h] == kNone;
-    if (seg[h] != kNone) return false;
-    const std::int32_t g = opp[h];
+    if (op == 0) return seg_[h] == kNone;
+    if (seg_[h] != kNone) return false;
+    const std::int32_t g = opp_[h];
     if (g == kNone) return false;
-    const VertId x = tv[g];
+    const VertId x = tv_[g];
     t = g / 3;
-    const double ox = orient(pa, p, pts[x]);
+    const double ox = orient(pa, p, pts_[x]);
     if (ox == 0) return false;
     if (ox < 0)
       u = x;
@@ -548,16 +555,16 @@ bool Triangulation::segment_clear(VertId a, Vec2 p) const {
 }
 
 std::int32_t Triangulation::find_half_edge(VertId a, VertId b) const {
-  const TriId t0 = vtri[a];
+  const TriId t0 = vtri_[a];
   if (t0 == kNone) return kNone;
   // Turn around a one way; if the box border stops us, turn the other way.
   for (int dir = 0; dir < 2; ++dir) {
     TriId t = t0;
     do {
       int k = 0;
-      while (tv[3 * t + k] != a) ++k;
-      if (tv[3 * t + next3(k)] == b) return 3 * t + prev3(k);
-      const std::int32_t h = opp[3 * t + (dir == 0 ? prev3(k) : next3(k))];
+      while (tv_[3 * t + k] != a) ++k;
+      if (tv_[3 * t + next3(k)] == b) return 3 * t + prev3(k);
+      const std::int32_t h = opp_[3 * t + (dir == 0 ? prev3(k) : next3(k))];
       if (h == kNone) break;
       t = h / 3;
       if (dir == 0 && t == t0) return kNone;
@@ -567,37 +574,37 @@ std::int32_t Triangulation::find_half_edge(VertId a, VertId b) const {
 }
 
 bool Triangulation::flippable(std::int32_t h) const {
-  const std::int32_t g = opp[h];
+  const std::int32_t g = opp_[h];
   if (g == kNone) return false;
   const TriId t = h / 3;
   const int i = h % 3;
-  const VertId c = tv[3 * t + i], a = tv[3 * t + next3(i)], b = tv[3 * t + prev3(i)];
-  const VertId d = tv[g];
-  return orient(pts[c], pts[a], pts[d]) > 0 && orient(pts[d], pts[b], pts[c]) > 0;
+  const VertId c = tv_[3 * t + i], a = tv_[3 * t + next3(i)], b = tv_[3 * t + prev3(i)];
+  const VertId d = tv_[g];
+  return orient(pts_[c], pts_[a], pts_[d]) > 0 && orient(pts_[d], pts_[b], pts_[c]) > 0;
 }
 
 void Triangulation::flip(std::int32_t h) {
   // t = (c, a, b) seen from edge i, u = (d, b, a); after the flip t = (c, a, d), u = (d, b, c).
-  const std::int32_t g = opp[h];
+  const std::int32_t g = opp_[h];
   const TriId t = h / 3, u = g / 3;
   const int i = h % 3, j = g % 3;
-  const VertId c = tv[3 * t + i], a = tv[3 * t + next3(i)], b = tv[3 * t + prev3(i)];
-  const VertId d = tv[3 * u + j];
-  const std::int32_t n1 = opp[3 * t + next3(i)], s1 = seg[3 * t + next3(i)];  // (b, c)
-  const std::int32_t n2 = opp[3 * t + prev3(i)], s2 = seg[3 * t + prev3(i)];  // (c, a)
-  const std::int32_t n3 = opp[3 * u + next3(j)], s3 = seg[3 * u + next3(j)];  // (a, d)
-  const std::int32_t n4 = opp[3 * u + prev3(j)], s4 = seg[3 * u + prev3(j)];  // (d, b)
-  tv[3 * t] = c, tv[3 * t + 1] = a, tv[3 * t + 2] = d;
-  tv[3 * u] = d, tv[3 * u + 1] = b, tv[3 * u + 2] = c;
-  seg[3 * t] = s3, seg[3 * t + 1] = kNone, seg[3 * t + 2] = s2;
-  seg[3 * u] = s1, seg[3 * u + 1] = kNone, seg[3 * u + 2] = s4;
+  const VertId c = tv_[3 * t + i], a = tv_[3 * t + next3(i)], b = tv_[3 * t + prev3(i)];
+  const VertId d = tv_[3 * u + j];
+  const std::int32_t n1 = opp_[3 * t + next3(i)], s1 = seg_[3 * t + next3(i)];  // (b, c)
+  const std::int32_t n2 = opp_[3 * t + prev3(i)], s2 = seg_[3 * t + prev3(i)];  // (c, a)
+  const std::int32_t n3 = opp_[3 * u + next3(j)], s3 = seg_[3 * u + next3(j)];  // (a, d)
+  const std::int32_t n4 = opp_[3 * u + prev3(j)], s4 = seg_[3 * u + prev3(j)];  // (d, b)
+  tv_[3 * t] = c, tv_[3 * t + 1] = a, tv_[3 * t + 2] = d;
+  tv_[3 * u] = d, tv_[3 * u + 1] = b, tv_[3 * u + 2] = c;
+  seg_[3 * t] = s3, seg_[3 * t + 1] = kNone, seg_[3 * t + 2] = s2;
+  seg_[3 * u] = s1, seg_[3 * u + 1] = kNone, seg_[3 * u + 2] = s4;
   link(3 * t, n3);
   link(3 * t + 2, n2);
   link(3 * u, n1);
   link(3 * u + 2, n4);
   link(3 * t + 1, 3 * u + 1);
-  tag[u] = tag[t];
-  vtri[a] = t, vtri[c] = t, vtri[b] = u, vtri[d] = u;
+  tag_[u] = tag_[t];
+  vtri_[a] = t, vtri_[c] = t, vtri_[b] = u, vtri_[d] = u;
 }
 
 void Triangulation::restore_delaunay(std::vector<std::pair<VertId, VertId>>& stack) {
@@ -607,15 +614,15 @@ void Triangulation::restore_delaunay(std::vector<std::pair<VertId, VertId>>& sta
     const auto [u, w] = stack.back();
     stack.pop_back();
     const std::int32_t h = find_half_edge(u, w);
-    if (h == kNone || seg[h] != kNone || opp[h] == kNone) continue;
+    if (h == kNone || seg_[h] != kNone || opp_[h] == kNone) continue;
     const TriId t = h / 3;
-    const std::int32_t g = opp[h];
-    const VertId d = tv[g];
-    const Vec2 &p0 = pts[tv[3 * t]], &p1 = pts[tv[3 * t + 1]], &p2 = pts[tv[3 * t + 2]];
-    if (pred::detail::incircle_filtered(&p0.x, &p1.x, &p2.x, &pts[d].x) <= 0) continue;
+    const std::int32_t g = opp_[h];
+    const VertId d = tv_[g];
+    const Vec2 &p0 = pts_[tv_[3 * t]], &p1 = pts_[tv_[3 * t + 1]], &p2 = pts_[tv_[3 * t + 2]];
+    if (pred::detail::incircle_filtered(&p0.x, &p1.x, &p2.x, &pts_[d].x) <= 0) continue;
     if (!flippable(h)) continue;  // cannot happen for a non-locally-Delaunay edge
     const int i = h % 3;
-    const VertId c = tv[3 * t + i], a = tv[3 * t + next3(i)], b = tv[3 * t + prev3(i)];
+    const VertId c = tv_[3 * t + i], a = tv_[3 * t + next3(i)], b = tv_[3 * t + prev3(i)];
     flip(h);
     stack.push_back({a, d});
     stack.push_back({d, b});
@@ -627,23 +634,23 @@ void Triangulation::restore_delaunay(std::vector<std::pair<VertId, VertId>>& sta
 bool Triangulation::unconstrain(VertId a, VertId b) {
   const std::int32_t h = find_half_edge(a, b);
   if (h == kNone) return false;
-  seg[h] = kNone;
-  if (opp[h] != kNone) seg[opp[h]] = kNone;
+  seg_[h] = kNone;
+  if (opp_[h] != kNone) seg_[opp_[h]] = kNone;
   return true;
 }
 
 Triangulation::EnforceResult Triangulation::enforce(VertId a, VertId b, std::int32_t sid) {
   EnforceResult res;
   auto set_seg = [&](std::int32_t h) {
-    seg[h] = sid;
-    if (opp[h] != kNone) seg[opp[h]] = sid;
+    seg_[h] = sid;
+    if (opp_[h] != kNone) seg_[opp_[h]] = sid;
   };
   std::int32_t h = find_half_edge(a, b);
   if (h != kNone) {
     set_seg(h);
     return res;
   }
-  const Vec2 pa = pts[a], pb = pts[b];
+  const Vec2 pa = pts_[a], pb = pts_[b];
   // The triangle around a whose wedge contains the direction of b. A neighbour of a on
   // the ray toward b lies strictly between a and b (b itself would make (a, b) an edge).
   const Wedge wg = find_wedge(a, pb);
@@ -661,23 +668,23 @@ Triangulation::EnforceResult Triangulation::enforce(VertId a, VertId b, std::int
   // Walk along (a, b) collecting the crossed edges (u right of ab, w left).
   std::deque<std::pair<VertId, VertId>> queue;
   for (;;) {
-    // half-edge (u, w) of t: edge index e with tv[next(e)] == u, tv[prev(e)] == w
+    // half-edge (u, w) of t: edge index e with tv_[next(e)] == u, tv_[prev(e)] == w
     int e = 0;
-    while (!(tv[3 * t + next3(e)] == u && tv[3 * t + prev3(e)] == w)) ++e;
+    while (!(tv_[3 * t + next3(e)] == u && tv_[3 * t + prev3(e)] == w)) ++e;
     h = 3 * t + e;
-    if (seg[h] != kNone) {
+    if (seg_[h] != kNone) {
       res.status = EnforceStatus::Crossing;
-      res.crossing_seg = seg[h];
+      res.crossing_seg = seg_[h];
       res.crossing_a = u;
       res.crossing_b = w;
       return res;
     }
     queue.push_back({u, w});
-    const std::int32_t g = opp[h];
-    const VertId x = tv[g];
+    const std::int32_t g = opp_[h];
+    const VertId x = tv_[g];
     t = g / 3;
     if (x == b) break;
-    const double ox = orient(pa, pb, pts[x]);
+    const double ox = orient(pa, pb, pts_[x]);
     if (ox == 0) {
       res.status = EnforceStatus::ThroughVertex;
       res.through = x;
@@ -705,9 +712,9 @@ Triangulation::EnforceResult Triangulation::enforce(VertId a, VertId b, std::int
       queue.push_back({x, y});
       continue;
     }
-    const VertId c = tv[e], d = tv[opp[e]];
+    const VertId c = tv_[e], d = tv_[opp_[e]];
     flip(e);
-    const double oc = orient(pa, pb, pts[c]), od = orient(pa, pb, pts[d]);
+    const double oc = orient(pa, pb, pts_[c]), od = orient(pa, pb, pts_[d]);
     if ((oc < 0 && od > 0) || (oc > 0 && od < 0))
       queue.push_back({c, d});
     else

@@ -20,7 +20,9 @@
 // inserted point falls in some triangle.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -144,33 +146,77 @@ class Triangulation {
   // Lawson flips (constrained Delaunay) starting from the given edges (as half-edges).
   void restore_delaunay(std::vector<std::pair<VertId, VertId>>& stack);
 
-  // Accessors.
-  std::int32_t num_tris() const { return static_cast<std::int32_t>(tv.size() / 3); }
-  std::int32_t num_verts() const { return static_cast<std::int32_t>(pts.size()); }
-  bool dead(TriId t) const { return tv[3 * t] == kNone; }
-  VertId tri_vertex(TriId t, int i) const { return tv[3 * t + i]; }
+  // Accessors, the only way the mesher stages read and write the store (the arrays are
+  // private; the kernel's own code indexes them). They assert their indices in debug
+  // builds; in release builds they compile to the plain array access.
+  std::int32_t num_tris() const { return static_cast<std::int32_t>(tv_.size() / 3); }
+  std::int32_t num_verts() const { return static_cast<std::int32_t>(pts_.size()); }
+  bool dead(TriId t) const { return tv_[3 * check_tri(t)] == kNone; }
   bool is_box_vertex(VertId v) const { return v < 4; }
-
-  std::vector<Vec2> pts;
-  std::vector<TriId> vtri;        // one incident triangle per vertex (kNone if not inserted)
-  std::vector<VertId> tv;         // 3 per triangle; tv[3t] == kNone marks a dead slot
-  std::vector<std::int32_t> opp;  // 3 per triangle
-  std::vector<std::int32_t> seg;  // 3 per triangle: input segment id or kNone
-  std::vector<std::int32_t> tag;  // 1 per triangle: domain component (new triangles inherit
-                                  // the tag of the base; flips keep it)
+  // Vertex i (0..2, counter-clockwise) of triangle t.
+  VertId vertex(TriId t, int i) const {
+    assert(i >= 0 && i < 3);
+    return tv_[3 * check_tri(t) + i];
+  }
+  // The vertex opposite the edge of half-edge h = 3t + i (vertex i of t).
+  VertId apex(std::int32_t h) const { return tv_[check_half_edge(h)]; }
+  // The half-edge of the same edge seen from the neighbour across it (kNone on the box
+  // border).
+  std::int32_t twin(std::int32_t h) const { return opp_[check_half_edge(h)]; }
+  // The input segment id constraining the edge of half-edge h, or kNone.
+  std::int32_t constraint(std::int32_t h) const { return seg_[check_half_edge(h)]; }
+  // The domain component of triangle t (coloring, §7.3.4).
+  std::int32_t tag(TriId t) const { return tag_[check_tri(t)]; }
+  void set_tag(TriId t, std::int32_t c) { tag_[check_tri(t)] = c; }
+  void fill_tags(std::int32_t c) { std::fill(tag_.begin(), tag_.end(), c); }
+  // Vertex coordinates and one incident triangle per vertex (kNone if not inserted).
+  const Vec2& point(VertId v) const { return pts_[check_vertex(v)]; }
+  const std::vector<Vec2>& points() const { return pts_; }
+  void set_point(VertId v, Vec2 p) { pts_[check_vertex(v)] = p; }
+  TriId vertex_tri(VertId v) const { return vtri_[check_vertex(v)]; }
+  // Drops the last vertex added by add_vertex, which is in no triangle (a duplicate).
+  void remove_last_vertex() {
+    assert(!pts_.empty() && vtri_.back() == kNone);
+    pts_.pop_back();
+    vtri_.pop_back();
+  }
+  // Room for nv vertices and their triangles, in huge pages where the kernel allows them
+  // (huge_pages.h: fewer TLB misses and page faults).
+  void reserve_huge(std::size_t nv);
 
   // Statistics of the kernel.
   std::int64_t bad_cavities = 0;
   std::int64_t star_corrections = 0;
 
  private:
+  TriId check_tri(TriId t) const {
+    assert(t >= 0 && static_cast<std::size_t>(t) < tag_.size());
+    return t;
+  }
+  std::int32_t check_half_edge(std::int32_t h) const {
+    assert(h >= 0 && static_cast<std::size_t>(h) < tv_.size());
+    return h;
+  }
+  VertId check_vertex(VertId v) const {
+    assert(v >= 0 && static_cast<std::size_t>(v) < pts_.size());
+    return v;
+  }
+
+  std::vector<Vec2> pts_;
+  std::vector<TriId> vtri_;        // one incident triangle per vertex (kNone if not inserted)
+  std::vector<VertId> tv_;         // 3 per triangle; tv_[3t] == kNone marks a dead slot
+  std::vector<std::int32_t> opp_;  // 3 per triangle
+  std::vector<std::int32_t> seg_;  // 3 per triangle: input segment id or kNone
+  std::vector<std::int32_t> tag_;  // 1 per triangle: domain component (new triangles inherit
+                                   // the tag of the base; flips keep it)
+
   // The cavity criterion for triangle t (inline: the isotropic test is the kernel's
   // innermost operation).
   bool in_cavity(TriId t, Vec2 p, const InsertParams& prm) const {
     if (prm.use_metric) return in_cavity_metric(t, p, prm);
-    const Vec2& a = pts[tv[3 * t]];
-    const Vec2& b = pts[tv[3 * t + 1]];
-    const Vec2& c = pts[tv[3 * t + 2]];
+    const Vec2& a = pts_[tv_[3 * t]];
+    const Vec2& b = pts_[tv_[3 * t + 1]];
+    const Vec2& c = pts_[tv_[3 * t + 2]];
     return pred::detail::incircle_filtered(&a.x, &b.x, &c.x, &p.x) > 0;
   }
   bool in_cavity_metric(TriId t, Vec2 p, const InsertParams& prm) const;
@@ -183,8 +229,8 @@ class Triangulation {
   InsertResult make_ball(VertId v, TriId t0, const InsertParams& prm, const TriId* cav,
                          std::size_t nc, const BoundaryEdge* bd, std::size_t m);
   void link(std::int32_t h1, std::int32_t h2) {
-    opp[h1] = h2;
-    if (h2 != kNone) opp[h2] = h1;
+    opp_[h1] = h2;
+    if (h2 != kNone) opp_[h2] = h1;
   }
   TriId new_tri();
   bool star_correct(Vec2 p, std::size_t nbase, std::uint32_t IN, std::uint32_t OUT,
@@ -215,8 +261,8 @@ class Triangulation {
 void brio_order(const std::vector<Vec2>& in, std::vector<std::uint64_t>& rec);
 
 // Delaunay triangulation of the convex hull of a point set, without constraints: the
-// fast path of m2d::mesh for unconstrained input without refinement (the issue's
-// "Delaunay triangulation of N random points" case). Same kernel idea as Triangulation
+// fast path of m2d::mesh for unconstrained input without refinement (the Delaunay
+// triangulation of N points). Same kernel idea as Triangulation
 // (T(i+1) = T(i) - C(P) + B(P), §7.1.3, exact predicates), but instead of the enclosing
 // box of §7.3.2 the outside of the hull is covered by "ghost" triangles (a, b, G) that
 // join every hull edge to one vertex G at infinity. A ghost triangle's circumdisk is the
@@ -263,6 +309,9 @@ class HullDelaunay {
 
  private:
   bool insert(VertId pv);
+  std::int32_t walk(Vec2 p, double* o) const;
+  bool grow_cavity(std::int32_t t, Vec2 p, std::size_t& nc, std::size_t& m);
+  bool make_ball(VertId pv, std::size_t nc, std::size_t m);
   bool conflict_slow(const Tri& r, Vec2 p) const;
   std::int32_t last_ = 0;  // a real triangle at the last inserted vertex: the walk's start
   struct NewTri {

@@ -162,6 +162,13 @@ struct Mesh {
   std::vector<Metric2> vertex_metric;            // the metric each vertex was placed for (the
                                                  // field, scaled by Options::boundary_gradation);
                                                  // empty when not refined
+  // Per vertex (as vertex_metric): the factor s >= 1 by which Options::boundary_gradation
+  // scaled the field's metric there, vertex_metric[v] = s * M(x_v) with M the field after
+  // the anisotropy cap (Options::max_anisotropy); s = 1 / r^2 for the size ratio r < 1
+  // that the boundary imposed, 1 where it imposed nothing. Callers that build their own
+  // metrics from the field at the output vertices multiply them by s to get the metric
+  // the vertex was placed for. Empty when vertex_metric is.
+  std::vector<double> boundary_scale;
 };
 
 struct Quality {
