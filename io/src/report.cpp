@@ -11,6 +11,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "uvmesh/geom/project.h"
 #include "uvmesh/surface/mesher.h"
 
 namespace uvmesh::io {
@@ -501,7 +502,7 @@ std::string attach_uv(SurfaceMesh& m, const geom::Model& model) {
           const double dd = glm::dot(gp[g] - x, gp[g] - x);
           if (dd < bd) bd = dd, best = g;
         }
-        uv_of[v] = surface::project_to_surface(s, x, guv[best], box, scale / kGrid).uv;
+        uv_of[v] = geom::project_to_surface(s, x, guv[best], box, scale / kGrid).uv;
       }
     const double pu = s.u_periodic() ? s.u_period() : 0.0, pv = s.v_periodic() ? s.v_period() : 0.0;
     for (std::size_t t : by_face[f]) {

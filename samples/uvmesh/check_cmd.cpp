@@ -134,10 +134,10 @@ int run_check(const CheckFlags& f) {
       size.max_anisotropy = f.aniso;
     }
     co.chordal_tolerance = size.chordal_tol;
-    // mesh_model sizes elements with the chordal tolerance divided by its safety factor.
-    const double safety = surface::MeshOptions{}.chordal_safety;
-    if (safety > 1) size.chordal_tol /= safety;
-    co.size = size;
+    // What mesh_model would make elements for with these sizes and its default options.
+    surface::MeshOptions mo;
+    mo.size = std::move(size);
+    co.size = surface::meshing_size(mo);
   }
   const io::CheckData d = io::check_mesh(mr.mesh, model.ok ? &model.model : nullptr, co);
   nlohmann::json j = io::report_json(d);

@@ -313,8 +313,7 @@ int run_mesh(const MeshFlags& f) {
     co.threads = f.threads;
     co.self_intersections = !f.no_selfint;
     co.chordal_tolerance = o.size.chordal_tol;
-    co.size = o.size;  // as mesh_model sizes elements: chordal tolerance with its safety factor
-    if (o.chordal_safety > 1) co.size->chordal_tol /= o.chordal_safety;
+    co.size = r.size;  // the sizes mesh_model made elements for
     const io::CheckData cd = io::check_mesh(r.mesh, &model, co);
     free_edges = cd.topology.free_edges;
     nonman = cd.topology.non_manifold_edges;
