@@ -143,8 +143,8 @@ bool triangles_intersect(const SurfaceMesh& m, TriId t0, TriId t1);
 /// and the images through sigma of their (u,v) triangles (each cut into k^2 pieces,
 /// mapped onto its face's surface) intersect as well. There no mesh
 /// that follows the CAD surfaces can avoid the intersection: a swept surface folding over
-/// itself (occt_mesh_hang's tube, whose normal reverses across lines where sigma_u x
-/// sigma_v vanishes), two faces overlapping in the file. Pairs on faces without a surface
+/// itself (a swept tube whose normal reverses across lines where sigma_u x sigma_v
+/// vanishes), two faces overlapping in the file. Pairs on faces without a surface
 /// are not counted. A lower bound: two flat triangles can cross next to a line where the
 /// surfaces cross while the finer pieces under them pass each other (a spindle torus: 74%
 /// of its pairs found with k = 4, 85% with k = 8). Returns the indices into `pairs`.
