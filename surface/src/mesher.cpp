@@ -92,6 +92,7 @@ void build_size_fields(ModelRun& run) {
   // Deterministic: a field freed after its face is meshed is built again, identical, when
   // a crossing round meshes the faces again (stage 2).
   detail::parallel_indices(run.arena, run.nf, [&](std::size_t f) { run.build_field(f); });
+  for (std::size_t f = 0; f < run.nf; ++f) run.field_ptr[f] = run.fields[f].get();
 }
 
 void mark_edges_on_faces(ModelRun& run) {
@@ -140,7 +141,6 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
   auto t0 = Clock::now();
   build_size_fields(run);
   detail::find_twin_faces(run);
-  for (std::size_t f = 0; f < run.nf; ++f) run.field_ptr[f] = run.fields[f].get();
   run.res.stages.push_back({"size fields", seconds_since(t0)});
 
   mark_edges_on_faces(run);
