@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "subd_patch.h"  // private to geom: SubdPatch, the patch domains
+#include "uvmesh/geom/project.h"
 #include "uvmesh/geom/subd.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 #include "uvmesh/surface/check3d.h"
@@ -126,9 +127,9 @@ surface::SurfaceMesh tessellate(const geom::SubdModelResult& r,
       const int idx[3] = {a, b, c};
       for (int k = 0; k < 3 && (*r.patches)[f].polygon.empty(); ++k)
         if (l[k].x < -1e-9 || l[k].y < -1e-9 || l[k].x > 1 + 1e-9 || l[k].y > 1 + 1e-9)
-          l[k] = surface::project_to_surface(*r.model.faces[f].surface, mesh.points[base + idx[k]],
-                                             glm::clamp(l[k], geom::Vec2(0.0), geom::Vec2(1.0)),
-                                             {{0, 1}, {0, 1}}, r.model.bbox.diagonal())
+          l[k] = geom::project_to_surface(*r.model.faces[f].surface, mesh.points[base + idx[k]],
+                                          glm::clamp(l[k], geom::Vec2(0.0), geom::Vec2(1.0)),
+                                          {{0, 1}, {0, 1}}, r.model.bbox.diagonal())
                      .uv;
       mesh.triangle_uv.push_back(l);
     }

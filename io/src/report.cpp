@@ -11,6 +11,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "uvmesh/geom/project.h"
 #include "uvmesh/surface/mesher.h"
 
 namespace uvmesh::io {
@@ -208,70 +209,65 @@ nlohmann::json histogram_json(const Histogram& h) {
   return {{"bin_lo", h.lo}, {"hi", h.hi}, {"count", h.count}};
 }
 
-}  // namespace
-
-CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const CheckOptions& opt) {
-  CheckData d;
-  d.points = m.points.size();
-  d.triangles = m.triangles.size();
-  d.segments = m.segments.size();
-  surface::TopologyOptions to;
-  to.max_list = opt.max_list;
-  d.topology = surface::check_topology(m, to);
-  const EdgeTable e = edge_table(m);
-  d.components = components(m, e);
-  if (model) d.free_edges_on_open_model_edges = free_on_open_model_edges(m, *model, e);
-  if (model) d.solids = solid_topology(m, *model);
-  if (opt.self_intersections) {
-    d.intersections = surface::find_self_intersections(m, opt.max_list, opt.threads);
-    if (model && d.intersections->intersecting_pairs > 0) {
-      // Every pair is classified, not only the listed ones.
-      const surface::IntersectionReport all =
-          d.intersections->pairs.size() < d.intersections->intersecting_pairs
-              ? surface::find_self_intersections(
-                    m, static_cast<int>(d.intersections->intersecting_pairs), opt.threads)
-              : *d.intersections;
-      const std::vector<std::size_t> in_model =
-          surface::pairs_intersecting_in_model(m, *model, all.pairs);
-      d.intersections_in_model = in_model.size();
-      std::vector<char> proven(all.pairs.size(), 0);
-      for (std::size_t k : in_model) proven[k] = 1;
-      for (auto& s : d.solids) {
-        std::size_t n = 0, n_model = 0;
-        for (std::size_t k = 0; k < all.pairs.size(); ++k) {
-          const auto& p = all.pairs[k];
-          if (std::binary_search(s.faces.begin(), s.faces.end(), p.f0) &&
-              std::binary_search(s.faces.begin(), s.faces.end(), p.f1))
-            ++n, n_model += proven[k];
-        }
-        s.self_intersections = n;
-        s.self_intersections_in_model = n_model;
-      }
-      if (!d.solids.empty()) {
-        std::vector<char> in_closed(model->faces.size() + 1, 0);
-        for (const auto& s : d.solids)
-          if (s.closed)
-            for (geom::Id f : s.faces) in_closed[static_cast<std::size_t>(f)] = 1;
-        auto closed_face = [&](geom::Id f) {
-          return f >= 0 && static_cast<std::size_t>(f) < model->faces.size() &&
-                 in_closed[static_cast<std::size_t>(f)];
-        };
-        std::size_t n = 0, n_model = 0;
-        for (std::size_t k = 0; k < all.pairs.size(); ++k)
-          if (closed_face(all.pairs[k].f0) && closed_face(all.pairs[k].f1))
-            ++n, n_model += proven[k];
-        d.intersections_in_closed_solids = n;
-        d.intersections_in_closed_solids_in_model = n_model;
-      }
-    } else {
-      for (auto& s : d.solids) s.self_intersections = s.self_intersections_in_model = 0;
-      if (!d.solids.empty())
-        d.intersections_in_closed_solids = d.intersections_in_closed_solids_in_model = 0;
+// Which intersecting pairs the model's own surfaces share: in total, per solid and within
+// closed solids.
+void classify_intersections(CheckData& d, const SurfaceMesh& m, const geom::Model& model,
+                            const CheckOptions& opt) {
+  // Every pair is classified, not only the listed ones.
+  const surface::IntersectionReport all =
+      d.intersections->pairs.size() < d.intersections->intersecting_pairs
+          ? surface::find_self_intersections(
+                m, static_cast<int>(d.intersections->intersecting_pairs), opt.threads)
+          : *d.intersections;
+  const std::vector<std::size_t> in_model =
+      surface::pairs_intersecting_in_model(m, model, all.pairs);
+  d.intersections_in_model = in_model.size();
+  std::vector<char> proven(all.pairs.size(), 0);
+  for (std::size_t k : in_model) proven[k] = 1;
+  for (auto& s : d.solids) {
+    std::size_t n = 0, n_model = 0;
+    for (std::size_t k = 0; k < all.pairs.size(); ++k) {
+      const auto& p = all.pairs[k];
+      if (std::binary_search(s.faces.begin(), s.faces.end(), p.f0) &&
+          std::binary_search(s.faces.begin(), s.faces.end(), p.f1))
+        ++n, n_model += proven[k];
     }
+    s.self_intersections = n;
+    s.self_intersections_in_model = n_model;
   }
-  // With a model, bad triangles across gaps narrower than the mesher's proximity floor
-  // (for the sizes given, else the default sizes') are counted apart from the others.
-  // Gaps within the CAD tolerances of the two edges count as narrow as well.
+  if (d.solids.empty()) return;
+  std::vector<char> in_closed(model.faces.size() + 1, 0);
+  for (const auto& s : d.solids)
+    if (s.closed)
+      for (geom::Id f : s.faces) in_closed[static_cast<std::size_t>(f)] = 1;
+  auto closed_face = [&](geom::Id f) {
+    return f >= 0 && static_cast<std::size_t>(f) < model.faces.size() &&
+           in_closed[static_cast<std::size_t>(f)];
+  };
+  std::size_t n = 0, n_model = 0;
+  for (std::size_t k = 0; k < all.pairs.size(); ++k)
+    if (closed_face(all.pairs[k].f0) && closed_face(all.pairs[k].f1)) ++n, n_model += proven[k];
+  d.intersections_in_closed_solids = n;
+  d.intersections_in_closed_solids_in_model = n_model;
+}
+
+void check_intersections(CheckData& d, const SurfaceMesh& m, const geom::Model* model,
+                         const CheckOptions& opt) {
+  d.intersections = surface::find_self_intersections(m, opt.max_list, opt.threads);
+  if (model && d.intersections->intersecting_pairs > 0) {
+    classify_intersections(d, m, *model, opt);
+  } else {
+    for (auto& s : d.solids) s.self_intersections = s.self_intersections_in_model = 0;
+    if (!d.solids.empty())
+      d.intersections_in_closed_solids = d.intersections_in_closed_solids_in_model = 0;
+  }
+}
+
+// With a model, bad triangles across gaps narrower than the mesher's proximity floor
+// (for the sizes given, else the default sizes') are counted apart from the others.
+// Gaps within the CAD tolerances of the two edges count as narrow as well.
+void measure_shape(CheckData& d, const SurfaceMesh& m, const geom::Model* model,
+                   const CheckOptions& opt) {
   double narrow_gap = 0.0;
   std::vector<double> edge_gap;
   if (model) {
@@ -280,9 +276,11 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
     edge_gap = surface::edge_gap_floors(*model);
   }
   d.quality = surface::measure_quality(m, opt.max_list, narrow_gap, model ? &edge_gap : nullptr);
+}
 
-  // Edge lengths relative to the median edge: the report of a mesh without a size field
-  // still shows how uniform (or how graded) the sizes are.
+// Edge lengths relative to the median edge: the report of a mesh without a size field
+// still shows how uniform (or how graded) the sizes are.
+void measure_edge_distribution(CheckData& d, const SurfaceMesh& m, const EdgeTable& e) {
   std::vector<double> len(e.edges.size());
   for (std::size_t k = 0; k < e.edges.size(); ++k)
     len[k] = glm::distance(m.points[static_cast<std::size_t>(e.edges[k].first)],
@@ -302,7 +300,10 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
   d.edge_histogram.lo = d.edge_lengths.bin_lo;
   d.edge_histogram.hi = std::numeric_limits<double>::infinity();
   d.edge_histogram.count = d.edge_lengths.bin_count;
+}
 
+// q = 1/Q and the angles of every triangle.
+void shape_histograms(CheckData& d, const SurfaceMesh& m) {
   d.q_histogram = uniform_histogram(0.0, 1.0, 20);
   d.angle_histogram = uniform_histogram(0.0, 180.0, 18);
   for (const auto& tri : m.triangles) {
@@ -320,25 +321,49 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
                         std::numbers::pi);
     }
   }
+}
 
-  d.chordal_tolerance = opt.chordal_tolerance;
-  if (model) {
-    bool ids_ok = true;
-    for (geom::Id f : m.triangle_face)
-      ids_ok = ids_ok && f >= 0 && static_cast<std::size_t>(f) < model->faces.size();
-    if (m.triangle_uv.size() != m.triangles.size())
-      d.chordal_unavailable = "the mesh has no (u,v) per triangle corner";
-    else if (!ids_ok)
-      d.chordal_unavailable = "the mesh's face ids do not all name faces of the model";
+// Chordal deviation, and edge lengths in the size metric, when the mesh can be put on
+// the model's faces.
+void measure_against_model(CheckData& d, const SurfaceMesh& m, const geom::Model& model,
+                           const CheckOptions& opt) {
+  bool ids_ok = true;
+  for (geom::Id f : m.triangle_face)
+    ids_ok = ids_ok && f >= 0 && static_cast<std::size_t>(f) < model.faces.size();
+  if (m.triangle_uv.size() != m.triangles.size())
+    d.chordal_unavailable = "the mesh has no (u,v) per triangle corner";
+  else if (!ids_ok)
+    d.chordal_unavailable = "the mesh's face ids do not all name faces of the model";
+  else
+    d.chordal = surface::measure_chordal(m, model, opt.threads);
+  if (opt.size) {
+    if (!d.chordal_unavailable.empty())
+      d.metric_unavailable = d.chordal_unavailable;
     else
-      d.chordal = surface::measure_chordal(m, *model, opt.threads);
-    if (opt.size) {
-      if (!d.chordal_unavailable.empty())
-        d.metric_unavailable = d.chordal_unavailable;
-      else
-        d.metric_edge_lengths = metric_lengths(m, *model, *opt.size);
-    }
+      d.metric_edge_lengths = metric_lengths(m, model, *opt.size);
   }
+}
+
+}  // namespace
+
+CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const CheckOptions& opt) {
+  CheckData d;
+  d.points = m.points.size();
+  d.triangles = m.triangles.size();
+  d.segments = m.segments.size();
+  surface::TopologyOptions to;
+  to.max_list = opt.max_list;
+  d.topology = surface::check_topology(m, to);
+  const EdgeTable e = edge_table(m);
+  d.components = components(m, e);
+  if (model) d.free_edges_on_open_model_edges = free_on_open_model_edges(m, *model, e);
+  if (model) d.solids = solid_topology(m, *model);
+  if (opt.self_intersections) check_intersections(d, m, model, opt);
+  measure_shape(d, m, model, opt);
+  measure_edge_distribution(d, m, e);
+  shape_histograms(d, m);
+  d.chordal_tolerance = opt.chordal_tolerance;
+  if (model) measure_against_model(d, m, *model, opt);
   return d;
 }
 
@@ -501,7 +526,7 @@ std::string attach_uv(SurfaceMesh& m, const geom::Model& model) {
           const double dd = glm::dot(gp[g] - x, gp[g] - x);
           if (dd < bd) bd = dd, best = g;
         }
-        uv_of[v] = surface::project_to_surface(s, x, guv[best], box, scale / kGrid).uv;
+        uv_of[v] = geom::project_to_surface(s, x, guv[best], box, scale / kGrid).uv;
       }
     const double pu = s.u_periodic() ? s.u_period() : 0.0, pv = s.v_periodic() ? s.v_period() : 0.0;
     for (std::size_t t : by_face[f]) {

@@ -75,6 +75,110 @@ CLI::App* add_check_command(CLI::App& app, CheckFlags& f) {
   return c;
 }
 
+namespace {
+
+// The SVG pictures (--svg DIR): histograms, and with --face that face's (u,v) mesh; their
+// paths go to j["svg"]. 0, or the exit code after an error message.
+int write_svgs(const CheckFlags& f, const io::CheckData& d, const io::MeshReadResult& mr,
+               nlohmann::json& j) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(f.svg_dir, ec);
+  const fs::path dir(f.svg_dir);
+  struct Picture {
+    const char* file;
+    std::string svg;
+  };
+  std::vector<Picture> pics = {
+      {"quality_q.svg",
+       io::histogram_svg(d.q_histogram, "shape quality q = 1/Q (1 = equilateral)", "q")},
+      {"angles.svg", io::histogram_svg(d.angle_histogram, "triangle angles", "degrees")},
+      {"edge_length.svg",
+       io::histogram_svg(d.edge_histogram,
+                         "edge length / median edge (" + std::to_string(d.median_edge) + ")",
+                         "length / median (half-octave bins)")}};
+  if (f.face >= 0) {
+    if (mr.mesh.triangle_uv.size() != mr.mesh.triangles.size()) {
+      std::cerr << "uvmesh: error: --face " << f.face
+                << ": the mesh has no (u,v); give --model (and a mesh with face ids)\n";
+      return 1;
+    }
+    std::string svg = io::face_uv_svg(mr.mesh, f.face);
+    if (svg.empty()) {
+      std::cerr << "uvmesh: error: --face " << f.face << ": no triangles on that face\n";
+      return 1;
+    }
+    pics.push_back({"face_uv.svg", std::move(svg)});
+  }
+  for (const Picture& p : pics) {
+    const fs::path path = dir / (f.face >= 0 && std::string(p.file) == "face_uv.svg"
+                                     ? "face_" + std::to_string(f.face) + "_uv.svg"
+                                     : std::string(p.file));
+    if (!write_file(path, p.svg)) {
+      std::cerr << "uvmesh: error: " << path.string() << ": cannot write\n";
+      return 4;
+    }
+    j["svg"].push_back(path.string());
+  }
+  return 0;
+}
+
+// The text summary (without --json).
+void print_summary(const CheckFlags& f, const io::CheckData& d, const io::MeshReadResult& mr,
+                   const nlohmann::json& j) {
+  const auto& t = d.topology;
+  const auto& q = d.quality;
+  std::cout << f.mesh << " (" << io::format_name(mr.format) << "): " << d.points << " points, "
+            << d.triangles << " triangles, " << d.segments << " segments\n";
+  std::cout << "topology: " << t.edges << " edges, " << t.free_edges << " free, "
+            << t.non_manifold_edges << " non-manifold, " << t.inconsistent_edges
+            << " inconsistently oriented; " << d.components
+            << " component(s); Euler characteristic " << t.euler_characteristic << "; "
+            << t.degenerate_triangles << " degenerate triangles; " << t.close_points.pairs
+            << " close point pairs" << (t.watertight() ? "; watertight" : "") << "\n";
+  if (d.intersections)
+    std::cout << "self-intersections: " << d.intersections->intersecting_pairs << " triangle pairs"
+              << (d.intersections_in_model ? " (" + std::to_string(*d.intersections_in_model) +
+                                                 " where the model's own surfaces intersect)"
+                                           : std::string())
+              << "\n";
+  // A solid's own triangles, what a volume mesher fills: a stray sheet or a second body
+  // crossing it is counted above but not here.
+  constexpr std::size_t kMaxSolidLines = 20;
+  for (std::size_t k = 0; k < d.solids.size() && k < kMaxSolidLines; ++k) {
+    const auto& s = d.solids[k];
+    std::cout << "solid " << s.solid << (s.closed ? "" : " (open in the model)") << ": "
+              << s.triangles << " triangles, " << s.free_edges << " free, " << s.non_manifold_edges
+              << " non-manifold edges";
+    if (s.self_intersections)
+      std::cout << ", " << *s.self_intersections << " self-intersections ("
+                << s.self_intersections_in_model.value_or(0) << " in the model)";
+    std::cout << "\n";
+  }
+  if (d.solids.size() > kMaxSolidLines)
+    std::cout << "(" << d.solids.size() - kMaxSolidLines << " more solids in --json)\n";
+  std::cout << "quality: Q max " << q.Q_max << ", p95 " << q.Q_p95 << ", p50 " << q.Q_p50
+            << "; q min " << q.q_min << ", mean " << q.q_mean << "; " << 100.0 * q.share_Q_lt_1_5
+            << "% with Q < 1.5; angles " << q.min_angle_deg << " .. " << q.max_angle_deg
+            << " deg\n";
+  std::cout << "edge lengths: median " << d.median_edge << ", min "
+            << d.edge_lengths.min * d.median_edge << ", max " << d.edge_lengths.max * d.median_edge
+            << "; " << 100.0 * d.edge_lengths.unit_share << "% within sqrt(2) of the median\n";
+  if (d.metric_edge_lengths)
+    std::cout << "edge lengths in the size metric: " << 100.0 * d.metric_edge_lengths->unit_share
+              << "% unit (in [1/sqrt2, sqrt2]), " << d.metric_edge_lengths->short_edges
+              << " short, " << d.metric_edge_lengths->long_edges << " long\n";
+  if (d.chordal)
+    std::cout << "chordal deviation: max " << d.chordal->max << ", mean " << d.chordal->mean
+              << " (face " << d.chordal->worst.face << ")\n";
+  else if (!d.chordal_unavailable.empty())
+    std::cout << "chordal deviation: not measured (" << d.chordal_unavailable << ")\n";
+  if (j.contains("svg"))
+    for (const auto& p : j["svg"]) std::cout << "wrote " << p.get<std::string>() << "\n";
+}
+
+}  // namespace
+
 int run_check(const CheckFlags& f) {
   io::MeshReadOptions ro;
   if (!f.format.empty()) {
@@ -134,10 +238,10 @@ int run_check(const CheckFlags& f) {
       size.max_anisotropy = f.aniso;
     }
     co.chordal_tolerance = size.chordal_tol;
-    // mesh_model sizes elements with the chordal tolerance divided by its safety factor.
-    const double safety = surface::MeshOptions{}.chordal_safety;
-    if (safety > 1) size.chordal_tol /= safety;
-    co.size = size;
+    // What mesh_model would make elements for with these sizes and its default options.
+    surface::MeshOptions mo;
+    mo.size = std::move(size);
+    co.size = surface::meshing_size(mo);
   }
   const io::CheckData d = io::check_mesh(mr.mesh, model.ok ? &model.model : nullptr, co);
   nlohmann::json j = io::report_json(d);
@@ -145,101 +249,13 @@ int run_check(const CheckFlags& f) {
   j["format"] = std::string(io::format_name(mr.format));
   if (model.ok) j["model"] = f.model.model;
 
-  if (!f.svg_dir.empty()) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(f.svg_dir, ec);
-    const fs::path dir(f.svg_dir);
-    struct Picture {
-      const char* file;
-      std::string svg;
-    };
-    std::vector<Picture> pics = {
-        {"quality_q.svg",
-         io::histogram_svg(d.q_histogram, "shape quality q = 1/Q (1 = equilateral)", "q")},
-        {"angles.svg", io::histogram_svg(d.angle_histogram, "triangle angles", "degrees")},
-        {"edge_length.svg",
-         io::histogram_svg(d.edge_histogram,
-                           "edge length / median edge (" + std::to_string(d.median_edge) + ")",
-                           "length / median (half-octave bins)")}};
-    if (f.face >= 0) {
-      if (mr.mesh.triangle_uv.size() != mr.mesh.triangles.size()) {
-        std::cerr << "uvmesh: error: --face " << f.face
-                  << ": the mesh has no (u,v); give --model (and a mesh with face ids)\n";
-        return 1;
-      }
-      std::string svg = io::face_uv_svg(mr.mesh, f.face);
-      if (svg.empty()) {
-        std::cerr << "uvmesh: error: --face " << f.face << ": no triangles on that face\n";
-        return 1;
-      }
-      pics.push_back({"face_uv.svg", std::move(svg)});
-    }
-    for (const Picture& p : pics) {
-      const fs::path path = dir / (f.face >= 0 && std::string(p.file) == "face_uv.svg"
-                                       ? "face_" + std::to_string(f.face) + "_uv.svg"
-                                       : std::string(p.file));
-      if (!write_file(path, p.svg)) {
-        std::cerr << "uvmesh: error: " << path.string() << ": cannot write\n";
-        return 4;
-      }
-      j["svg"].push_back(path.string());
-    }
-  }
+  if (!f.svg_dir.empty())
+    if (int rc = write_svgs(f, d, mr, j); rc != 0) return rc;
 
-  if (f.json) {
+  if (f.json)
     std::cout << j.dump(2) << "\n";
-    return 0;
-  }
-  const auto& t = d.topology;
-  const auto& q = d.quality;
-  std::cout << f.mesh << " (" << io::format_name(mr.format) << "): " << d.points << " points, "
-            << d.triangles << " triangles, " << d.segments << " segments\n";
-  std::cout << "topology: " << t.edges << " edges, " << t.free_edges << " free, "
-            << t.non_manifold_edges << " non-manifold, " << t.inconsistent_edges
-            << " inconsistently oriented; " << d.components
-            << " component(s); Euler characteristic " << t.euler_characteristic << "; "
-            << t.degenerate_triangles << " degenerate triangles; " << t.close_points.pairs
-            << " close point pairs" << (t.watertight() ? "; watertight" : "") << "\n";
-  if (d.intersections)
-    std::cout << "self-intersections: " << d.intersections->intersecting_pairs << " triangle pairs"
-              << (d.intersections_in_model ? " (" + std::to_string(*d.intersections_in_model) +
-                                                 " where the model's own surfaces intersect)"
-                                           : std::string())
-              << "\n";
-  // A solid's own triangles, what a volume mesher fills: a stray sheet or a second body
-  // crossing it is counted above but not here.
-  constexpr std::size_t kMaxSolidLines = 20;
-  for (std::size_t k = 0; k < d.solids.size() && k < kMaxSolidLines; ++k) {
-    const auto& s = d.solids[k];
-    std::cout << "solid " << s.solid << (s.closed ? "" : " (open in the model)") << ": "
-              << s.triangles << " triangles, " << s.free_edges << " free, " << s.non_manifold_edges
-              << " non-manifold edges";
-    if (s.self_intersections)
-      std::cout << ", " << *s.self_intersections << " self-intersections ("
-                << s.self_intersections_in_model.value_or(0) << " in the model)";
-    std::cout << "\n";
-  }
-  if (d.solids.size() > kMaxSolidLines)
-    std::cout << "(" << d.solids.size() - kMaxSolidLines << " more solids in --json)\n";
-  std::cout << "quality: Q max " << q.Q_max << ", p95 " << q.Q_p95 << ", p50 " << q.Q_p50
-            << "; q min " << q.q_min << ", mean " << q.q_mean << "; " << 100.0 * q.share_Q_lt_1_5
-            << "% with Q < 1.5; angles " << q.min_angle_deg << " .. " << q.max_angle_deg
-            << " deg\n";
-  std::cout << "edge lengths: median " << d.median_edge << ", min "
-            << d.edge_lengths.min * d.median_edge << ", max " << d.edge_lengths.max * d.median_edge
-            << "; " << 100.0 * d.edge_lengths.unit_share << "% within sqrt(2) of the median\n";
-  if (d.metric_edge_lengths)
-    std::cout << "edge lengths in the size metric: " << 100.0 * d.metric_edge_lengths->unit_share
-              << "% unit (in [1/sqrt2, sqrt2]), " << d.metric_edge_lengths->short_edges
-              << " short, " << d.metric_edge_lengths->long_edges << " long\n";
-  if (d.chordal)
-    std::cout << "chordal deviation: max " << d.chordal->max << ", mean " << d.chordal->mean
-              << " (face " << d.chordal->worst.face << ")\n";
-  else if (!d.chordal_unavailable.empty())
-    std::cout << "chordal deviation: not measured (" << d.chordal_unavailable << ")\n";
-  if (j.contains("svg"))
-    for (const auto& p : j["svg"]) std::cout << "wrote " << p.get<std::string>() << "\n";
+  else
+    print_summary(f, d, mr, j);
   return 0;
 }
 

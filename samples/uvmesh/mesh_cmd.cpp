@@ -183,16 +183,11 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   return c;
 }
 
-int run_mesh(const MeshFlags& f) {
-  const auto t_all = Clock::now();
-  const io::WriteOptions wo = write_options(f.write);
-  if (std::string e = check_flags(f, wo); !e.empty()) {
-    std::cerr << "uvmesh: error: " << e << "\n";
-    return 1;
-  }
-  auto t0 = Clock::now();
-  // An .obj is a subdivision control cage (meshed on its OpenSubdiv limit surface);
-  // anything else goes to the CAD readers.
+namespace {
+
+// The model: an .obj is a subdivision control cage (meshed on its OpenSubdiv limit
+// surface); anything else goes to the CAD readers.
+io::ReadResult read_model(const MeshFlags& f) {
   io::ReadResult rr;
   if (has_obj_extension(f.read.model)) {
     geom::SubdOptions so;
@@ -207,15 +202,12 @@ int run_mesh(const MeshFlags& f) {
     ro.threads = f.threads;  // the assembly's general fuse runs on the same threads as the faces
     rr = io::read_cad(f.read.model, ro);
   }
-  if (!rr.ok) {
-    std::cerr << "uvmesh: error: " << rr.error << "\n";
-    return 2;
-  }
-  const double t_read = since(t0);
-  const geom::Model& model = rr.model;
+  return rr;
+}
 
-  // ---- sizes
-  surface::MeshOptions o;
+// MeshOptions::size from the flags and the model (defaults relative to its diagonal);
+// 0, or 1 after an error message.
+int size_options(const MeshFlags& f, const geom::Model& model, surface::MeshOptions& o) {
   o.size = surface::default_size(model);
   const double D = model.bbox.diagonal();
   if (f.hmax_rel > 0) o.size.hmax = f.hmax_rel * D;
@@ -267,6 +259,113 @@ int run_mesh(const MeshFlags& f) {
                 << model.edges.size() << " edges\n";
       return 1;
     }
+  return 0;
+}
+
+struct Times {
+  Clock::time_point all;
+  double read = 0, mesh = 0, write = 0;
+};
+
+// The JSON report (--report): the report of `uvmesh check` (io/report.h), plus what only
+// the mesher knows. Sets the free and non-manifold edge counts; 0, or 4 after an error
+// message.
+int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::MeshOptions& o,
+                 const surface::MeshResult& r, const Times& times, std::size_t& free_edges,
+                 std::size_t& nonman) {
+  const geom::Model& model = rr.model;
+  const double D = model.bbox.diagonal();
+  const auto t0 = Clock::now();
+  io::CheckOptions co;
+  co.threads = f.threads;
+  co.self_intersections = !f.no_selfint;
+  co.chordal_tolerance = o.size.chordal_tol;
+  co.size = r.size;  // the sizes mesh_model made elements for
+  const io::CheckData cd = io::check_mesh(r.mesh, &model, co);
+  free_edges = cd.topology.free_edges;
+  nonman = cd.topology.non_manifold_edges;
+  nlohmann::json j = io::report_json(cd);
+  j["model"] = f.read.model;
+  j["output"] = f.out;
+  j["units"] = model.units;
+  j["bbox_diagonal"] = D;
+  j["size"] = {
+      {"hmax", o.size.hmax},           {"hmin", o.size.hmin},
+      {"chordal", o.size.chordal_tol}, {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
+      {"gradation", o.size.gradation}, {"isotropic", o.size.isotropic}};
+  j["counts"]["faces"] = model.faces.size();
+  j["counts"]["edges"] = model.edges.size();
+  j["counts"]["faces_failed"] = r.failed.size();
+  nlohmann::json sec = {{"read", times.read}, {"mesh", times.mesh}, {"write", times.write}};
+  for (const auto& s : r.stages) sec["mesh_" + s.name] = s.seconds;
+  // Unit edges are measured face by face, in the metric each face was meshed for.
+  std::int64_t ne = 0, ns = 0, nl = 0;
+  for (const auto& fs : r.faces) ne += fs.edges, ns += fs.short_edges, nl += fs.long_edges;
+  j["unit_edge_share"] = r.unit_edge_share();
+  j["edge_lengths"] = {{"edges", ne}, {"short", ns}, {"long", nl}};
+  nlohmann::json failed = nlohmann::json::array();
+  for (const auto& ff : r.failed) failed.push_back({{"face", ff.face}, {"reason", ff.reason}});
+  j["failed_faces"] = failed;
+  j["warnings"] = r.warnings;
+  nlohmann::json tw = nlohmann::json::array();
+  for (const auto& [a, b] : r.twins) tw.push_back({{"face", a}, {"meshed_as", b}});
+  j["coincident_faces"] = tw;
+  nlohmann::json dg = nlohmann::json::array();
+  for (const auto& d : r.degenerate) dg.push_back({{"face", d.face}, {"reason", d.reason}});
+  j["degenerate_faces"] = dg;
+  j["counts"]["faces_degenerate"] = r.degenerate.size();
+  nlohmann::json cl = nlohmann::json::array();
+  for (const auto& c : r.collapsed) cl.push_back({{"face", c.face}, {"reason", c.reason}});
+  j["collapsed_faces"] = cl;
+  j["counts"]["faces_collapsed"] = r.collapsed.size();
+  // What reading and healing did to the file (uvmesh info shows the same): a refused
+  // step (an assembly left non-conforming) changes what the mesh can be.
+  nlohmann::json heal = nlohmann::json::array();
+  for (const auto& h : rr.report.healing)
+    heal.push_back({{"name", h.name}, {"applied", h.applied}, {"detail", h.detail}});
+  j["read"] = {{"warnings", rr.report.warnings}, {"healing", heal}};
+  sec["checks"] = since(t0);
+  sec["total"] = since(times.all);
+  j["seconds"] = sec;
+  const std::string tmp = f.report + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << j.dump(2) << "\n";
+    if (!out) {
+      std::cerr << "uvmesh: error: " << f.report << ": cannot write the report\n";
+      std::remove(tmp.c_str());
+      return 4;
+    }
+  }
+  if (std::rename(tmp.c_str(), f.report.c_str()) != 0) {
+    std::cerr << "uvmesh: error: " << f.report << ": cannot write the report\n";
+    std::remove(tmp.c_str());
+    return 4;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int run_mesh(const MeshFlags& f) {
+  const auto t_all = Clock::now();
+  const io::WriteOptions wo = write_options(f.write);
+  if (std::string e = check_flags(f, wo); !e.empty()) {
+    std::cerr << "uvmesh: error: " << e << "\n";
+    return 1;
+  }
+  auto t0 = Clock::now();
+  io::ReadResult rr = read_model(f);
+  if (!rr.ok) {
+    std::cerr << "uvmesh: error: " << rr.error << "\n";
+    return 2;
+  }
+  const double t_read = since(t0);
+  const geom::Model& model = rr.model;
+
+  // ---- sizes
+  surface::MeshOptions o;
+  if (int rc = size_options(f, model, o); rc != 0) return rc;
   o.threads = f.threads;
   o.face_time_limit = f.face_time_limit;
   o.optimize3d = !f.no_optimize3d;
@@ -306,77 +405,10 @@ int run_mesh(const MeshFlags& f) {
 
   // ---- report
   std::size_t free_edges = 0, nonman = 0;
-  if (!f.report.empty()) {
-    t0 = Clock::now();
-    // The report of `uvmesh check` (io/report.h), plus what only the mesher knows.
-    io::CheckOptions co;
-    co.threads = f.threads;
-    co.self_intersections = !f.no_selfint;
-    co.chordal_tolerance = o.size.chordal_tol;
-    co.size = o.size;  // as mesh_model sizes elements: chordal tolerance with its safety factor
-    if (o.chordal_safety > 1) co.size->chordal_tol /= o.chordal_safety;
-    const io::CheckData cd = io::check_mesh(r.mesh, &model, co);
-    free_edges = cd.topology.free_edges;
-    nonman = cd.topology.non_manifold_edges;
-    nlohmann::json j = io::report_json(cd);
-    j["model"] = f.read.model;
-    j["output"] = f.out;
-    j["units"] = model.units;
-    j["bbox_diagonal"] = D;
-    j["size"] = {
-        {"hmax", o.size.hmax},           {"hmin", o.size.hmin},
-        {"chordal", o.size.chordal_tol}, {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
-        {"gradation", o.size.gradation}, {"isotropic", o.size.isotropic}};
-    j["counts"]["faces"] = model.faces.size();
-    j["counts"]["edges"] = model.edges.size();
-    j["counts"]["faces_failed"] = r.failed.size();
-    nlohmann::json sec = {{"read", t_read}, {"mesh", t_mesh}, {"write", t_write}};
-    for (const auto& s : r.stages) sec["mesh_" + s.name] = s.seconds;
-    // Unit edges are measured face by face, in the metric each face was meshed for.
-    std::int64_t ne = 0, ns = 0, nl = 0;
-    for (const auto& fs : r.faces) ne += fs.edges, ns += fs.short_edges, nl += fs.long_edges;
-    j["unit_edge_share"] = r.unit_edge_share();
-    j["edge_lengths"] = {{"edges", ne}, {"short", ns}, {"long", nl}};
-    nlohmann::json failed = nlohmann::json::array();
-    for (const auto& ff : r.failed) failed.push_back({{"face", ff.face}, {"reason", ff.reason}});
-    j["failed_faces"] = failed;
-    j["warnings"] = r.warnings;
-    nlohmann::json tw = nlohmann::json::array();
-    for (const auto& [a, b] : r.twins) tw.push_back({{"face", a}, {"meshed_as", b}});
-    j["coincident_faces"] = tw;
-    nlohmann::json dg = nlohmann::json::array();
-    for (const auto& d : r.degenerate) dg.push_back({{"face", d.face}, {"reason", d.reason}});
-    j["degenerate_faces"] = dg;
-    j["counts"]["faces_degenerate"] = r.degenerate.size();
-    nlohmann::json cl = nlohmann::json::array();
-    for (const auto& c : r.collapsed) cl.push_back({{"face", c.face}, {"reason", c.reason}});
-    j["collapsed_faces"] = cl;
-    j["counts"]["faces_collapsed"] = r.collapsed.size();
-    // What reading and healing did to the file (uvmesh info shows the same): a refused
-    // step (an assembly left non-conforming) changes what the mesh can be.
-    nlohmann::json heal = nlohmann::json::array();
-    for (const auto& h : rr.report.healing)
-      heal.push_back({{"name", h.name}, {"applied", h.applied}, {"detail", h.detail}});
-    j["read"] = {{"warnings", rr.report.warnings}, {"healing", heal}};
-    sec["checks"] = since(t0);
-    sec["total"] = since(t_all);
-    j["seconds"] = sec;
-    const std::string tmp = f.report + ".tmp";
-    {
-      std::ofstream out(tmp);
-      out << j.dump(2) << "\n";
-      if (!out) {
-        std::cerr << "uvmesh: error: " << f.report << ": cannot write the report\n";
-        std::remove(tmp.c_str());
-        return 4;
-      }
-    }
-    if (std::rename(tmp.c_str(), f.report.c_str()) != 0) {
-      std::cerr << "uvmesh: error: " << f.report << ": cannot write the report\n";
-      std::remove(tmp.c_str());
-      return 4;
-    }
-  }
+  if (!f.report.empty())
+    if (int rc = write_report(f, rr, o, r, {t_all, t_read, t_mesh, t_write}, free_edges, nonman);
+        rc != 0)
+      return rc;
 
   if (!f.quiet) {
     std::cerr << "uvmesh: " << f.out << ": " << r.mesh.points.size() << " points, "

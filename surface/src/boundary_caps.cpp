@@ -151,7 +151,8 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
     // node, the coarse edge takes O(log) extra nodes. Graded from every sub-hmin node
     // (of the face, or even of the adjacent edges only), the small sizes spread into
     // tangential contacts and acute corners, where they only multiply the slivers across
-    // sub-floor gaps (measured: 4x more Q > 3 triangles on gmsh_t20_part, gmsh_ujoint).
+    // sub-floor gaps (measured: four times as many triangles of Q > 3 on parts with such
+    // contacts).
     if (g > 0)
       for (int k = 0; k < 2; ++k)
         if (nb.shares_end[k]) {

@@ -100,7 +100,7 @@ struct Improver {
         const double fold_new = glm::dot(unit_normal(pa, pb, pd), unit_normal(pa, pd, pc));
         if (fold_new < std::min(fold_old, 0.8)) continue;
         // Both new triangles face the side the old pair faced (two triangles turned over
-        // together pass the fold test; near occt_mesh_hang's fold lines they did).
+        // together pass the fold test; near the fold lines of a swept tube they did).
         const geom::Vec3 n_old = unit_normal(pa, pb, pc) + unit_normal(pd, pc, pb);
         if (!(glm::dot(unit_normal(pa, pb, pd), n_old) > 0) ||
             !(glm::dot(unit_normal(pa, pd, pc), n_old) > 0))
@@ -147,8 +147,8 @@ struct Improver {
     // The ring's own side: the area-weighted normal of v's triangles before the move. A
     // ring that faces away from sigma_u x sigma_v at v (v on a line where the surface
     // folds over itself) does not move. (Judging every triangle against sigma_u x sigma_v
-    // at v instead rejected moves on occt_terrain, where a few triangles of a ring already
-    // face away: two triangles there stayed above Q 3.)
+    // at v instead rejected moves on a terrain surface where a few triangles of a ring
+    // already face away, and left triangles above Q 3 there.)
     geom::Vec3 n0(0.0);
     for (std::int32_t t : ring) {
       const auto& T = lm.tris[static_cast<std::size_t>(t)];
@@ -161,8 +161,8 @@ struct Improver {
       return glm::dot(glm::cross(lm.p[T[1]] - lm.p[T[0]], lm.p[T[2]] - lm.p[T[0]]), n0) > 0;
     };
     // Which ring triangles face that side now: only those must still face it after the
-    // move (requiring it of all blocked moves that repair a triangle already turned,
-    // and gmsh_t20_part got 4 self-intersections and a Q > 3 triangle).
+    // move (requiring it of all blocked moves that repair a triangle already turned, and
+    // left self-intersections and triangles of Q > 3).
     std::uint64_t was_facing = 0;
     for (std::size_t k = 0; k < ring.size() && k < 64; ++k)
       if (faces_n0(ring[k])) was_facing |= std::uint64_t{1} << k;
@@ -179,10 +179,10 @@ struct Improver {
       if (!valid) continue;
       lm.p[v] = s.point(lm.uv[v].x, lm.uv[v].y);
       // No incident triangle may turn away from the ring's side: where the surface folds
-      // over itself (occt_mesh_hang: a swept tube whose normal
-      // reverses across lines where sigma_u x sigma_v vanishes) a step that is valid in
-      // (u,v) can land on the other sheet, and 3D shape alone accepted triangles turned
-      // over or flat (16 flat ones there, chordal deviation 2.5x the tolerance).
+      // over itself (a swept tube whose normal reverses across lines where sigma_u x
+      // sigma_v vanishes) a step that is valid in (u,v) can land on the other sheet, and
+      // 3D shape alone accepted triangles turned over or flat, with a chordal deviation
+      // well beyond the tolerance.
       for (std::size_t k = 0; k < ring.size(); ++k)
         if ((k >= 64 || (was_facing >> k & 1)) && !faces_n0(ring[k])) {
           valid = false;
@@ -256,10 +256,9 @@ struct Improver {
   // and smoothing -- a cap or needle wedged between sub-hmin boundary features next to a
   // corner, a free vertex squeezed into a strip one element wide, where no position of
   // it helps -- loses one free vertex v, merged into another vertex w of the triangle.
-  // (The threshold was Q = 3: catmark_nonman_edges, whose quads repeating a vertex make
-  // cone tips where mesher2d leaves such vertices, went from 87.8% to 95.2% of triangles
-  // under Q 1.5 with it at 1.5, and 11% fewer triangles; no other subdivision cage
-  // changed by more than 0.1%.) Kept when the link condition holds (v and w share exactly
+  // (At Q = 3 instead, a cage whose quads repeat a vertex, making cone tips where mesher2d
+  // leaves such vertices, kept many more triangles above Q 1.5; the other subdivision
+  // cages hardly change between the two.) Kept when the link condition holds (v and w share exactly
   // the two neighbours opposite their edge), every moved triangle stays CCW in (u,v) and
   // turns its normal by less than 60 degrees, and the worst quality of v's ball rises by
   // 5%. Collapsed triangles are marked {-1,-1,-1}; compact() removes them.

@@ -163,3 +163,14 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id face, const std::vector<EdgeNo
                    const MeshOptions& opt, bool boundary_fallback = false);
 
 }  // namespace uvmesh::surface::detail
+
+// ---- The closest point of a surface, which lives in geom (uvmesh/geom/project.h), under
+// the names the surface stage has always called it by.
+#include "uvmesh/geom/project.h"
+
+namespace uvmesh::surface::detail {
+
+using geom::project_to_surface;
+using geom::Projection;
+
+}  // namespace uvmesh::surface::detail

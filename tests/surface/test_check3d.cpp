@@ -13,6 +13,7 @@
 
 #include "predicates3d.h"
 #include "uvmesh/geom/analytic.h"
+#include "uvmesh/geom/project.h"
 #include "uvmesh/surface/check3d.h"
 
 using namespace uvmesh;
@@ -894,11 +895,11 @@ TEST_CASE("check3d: chordal: projection from a poor start, and skipped triangles
   const auto s = geom::make_sphere(geom::Frame{}, 1.0);
   // Start far from the foot point and near a pole.
   const Vec3 x = Vec3(0.3, 0.4, 0.5);
-  const auto p = surface::project_to_surface(*s, x, Vec2(2.0, 1.5), s->bounds(), 1.0);
+  const auto p = geom::project_to_surface(*s, x, Vec2(2.0, 1.5), s->bounds(), 1.0);
   CHECK(p.converged);
   CHECK(p.distance == Approx(1.0 - glm::length(x)).epsilon(1e-10));
   // Point on the axis beyond the pole: the pole itself is the answer (a bound).
-  const auto q = surface::project_to_surface(*s, Vec3(0, 0, 2), Vec2(0.3, 1.0), s->bounds(), 1.0);
+  const auto q = geom::project_to_surface(*s, Vec3(0, 0, 2), Vec2(0.3, 1.0), s->bounds(), 1.0);
   CHECK(q.distance == Approx(1.0).epsilon(1e-8));
 
   auto m = octahedron();
@@ -920,8 +921,7 @@ TEST_CASE("check3d: chordal: projection converges below the noise of the squared
       for (double du : {1e-6, 1e-10, -3e-10}) {
         const auto e = cyl->eval(u0, 1.2);
         const Vec3 x = e.p + d * e.normal();
-        const auto p =
-            surface::project_to_surface(*cyl, x, Vec2(u0 + du, 1.2), cyl->bounds(), 0.07);
+        const auto p = geom::project_to_surface(*cyl, x, Vec2(u0 + du, 1.2), cyl->bounds(), 0.07);
         INFO("u0 " << u0 << " d " << d << " iterations " << p.iterations);
         CHECK(p.converged);
         CHECK(p.distance == Approx(d).margin(1e-11));

@@ -33,11 +33,11 @@ struct CheckOptions {
   int max_list = 20;               ///< cap of every list in the report
   double chordal_tolerance = 0.0;  ///< 0 = no bound to compare with
   /// With a model: edge lengths in the metric of these sizes (the unit mesh measure,
-  /// DESIGN.md), each node's metric from its face's param::FaceSizeField. For a mesh of
-  /// surface::mesh_model, the sizes it meshed with (its chordal tolerance divided by
-  /// MeshOptions::chordal_safety). This is the size field alone: the 2D mesher also
-  /// grades sizes away from short boundary segments (small holes, fillets), so edges near
-  /// such features count as short here while the mesher's own per-face measure
+  /// docs/ARCHITECTURE.md), each node's metric from its face's param::FaceSizeField. For a
+  /// mesh of surface::mesh_model, the sizes it meshed with: MeshResult::size (its chordal
+  /// tolerance divided by MeshOptions::chordal_safety). This is the size field alone: the 2D mesher
+  /// also grades sizes away from short boundary segments (small holes, fillets), so edges near such
+  /// features count as short here while the mesher's own per-face measure
   /// (`uvmesh mesh --report`: unit_edge_share) counts them as unit.
   std::optional<param::SizeSpec> size;
 };
@@ -108,7 +108,7 @@ nlohmann::json report_json(const CheckData& d);
 
 /// Fills m.triangle_uv for a mesh read from a file, so that chordal deviation and the
 /// (u,v) picture of a face can be computed: each node of a face is projected on that
-/// face's surface (surface::project_to_surface) from the nearest point of a sampling grid
+/// face's surface (geom::project_to_surface) from the nearest point of a sampling grid
 /// of the face's (u,v) box; in periodic directions a triangle's corners are moved to the
 /// same period as its first corner. Returns "" or why it could not (a face id the model
 /// does not have). Faces without a surface keep (0,0).

@@ -1,5 +1,5 @@
-// uvmesh::surface 3D checks and measures of a SurfaceMesh (DESIGN.md "Quality and size
-// measures": topology, self-intersections, shape, metric edge lengths, chordal
+// uvmesh::surface 3D checks and measures of a SurfaceMesh (docs/ARCHITECTURE.md "Quality
+// and size measures": topology, self-intersections, shape, metric edge lengths, chordal
 // deviation). Everything returns data; nothing prints.
 //
 //   surface::TopologyReport t = surface::check_topology(mesh);
@@ -58,7 +58,7 @@ struct ClosePointsReport {
 
 /// Pairs of distinct points closer than rel_tol times the bounding-box diagonal of
 /// `points` (exact duplicates always count). Grid sort, O(n log n). TetGen's -pY rejects
-/// such surfaces ("duplicated facets") at about rel_tol = 1e-8 (DESIGN.md).
+/// such surfaces ("duplicated facets") at about rel_tol = 1e-8 (docs/ARCHITECTURE.md).
 ClosePointsReport find_close_points(const std::vector<geom::Vec3>& points, double rel_tol = 1e-8,
                                     int max_list = 20);
 
@@ -143,8 +143,8 @@ bool triangles_intersect(const SurfaceMesh& m, TriId t0, TriId t1);
 /// and the images through sigma of their (u,v) triangles (each cut into k^2 pieces,
 /// mapped onto its face's surface) intersect as well. There no mesh
 /// that follows the CAD surfaces can avoid the intersection: a swept surface folding over
-/// itself (occt_mesh_hang's tube, whose normal reverses across lines where sigma_u x
-/// sigma_v vanishes), two faces overlapping in the file. Pairs on faces without a surface
+/// itself (a swept tube whose normal reverses across lines where sigma_u x sigma_v
+/// vanishes), two faces overlapping in the file. Pairs on faces without a surface
 /// are not counted. A lower bound: two flat triangles can cross next to a line where the
 /// surfaces cross while the finer pieces under them pass each other (a spindle torus: 74%
 /// of its pairs found with k = 4, 85% with k = 8). Returns the indices into `pairs`.
@@ -231,24 +231,6 @@ EdgeLengthReport measure_edge_lengths(const SurfaceMesh& m,
 // 5. Chordal deviation against the exact surfaces
 // ---------------------------------------------------------------------------------------
 
-struct Projection {
-  geom::Vec2 uv{0.0, 0.0};
-  geom::Vec3 point{0.0, 0.0, 0.0};  ///< sigma(uv)
-  double distance = 0;
-  int iterations = 0;
-  bool converged = false;
-};
-
-/// Closest point of s to x near uv0: Newton on |sigma(u,v) - x|^2 (second derivatives;
-/// Levenberg-Marquardt damping on the first fundamental form where the Hessian is not
-/// positive definite, e.g. at poles), backtracking line search, bound constraints on
-/// `box` (active set). `scale` is a length of the problem (e.g. the triangle size), tol =
-/// 1e-10 scale. Converged: the distance is below tol, or a full Newton step moves sigma
-/// by less than tol, or along every free direction (one not blocked by a bound) the
-/// residual's tangential component is below 1e-6 |residual| + tol.
-Projection project_to_surface(const geom::Surface& s, const geom::Vec3& x, geom::Vec2 uv0,
-                              const geom::Box2& box, double scale, int max_iter = 30);
-
 struct ChordalSample {
   TriId triangle = -1;
   geom::Id face = geom::kNone;
@@ -272,7 +254,8 @@ struct ChordalReport {
 };
 
 /// Samples the centroid and the three edge midpoints of every triangle, with the (u,v)
-/// interpolated from triangle_uv as the starting point, and projects them on their
+/// interpolated from triangle_uv as the starting point, and projects them
+/// (geom::project_to_surface) on their
 /// face's surface (box: Face::uv_box, or Surface::bounds() if uv_box is empty, extended
 /// by half a period in periodic directions). Faces run in parallel in a task arena of
 /// `threads` (0 = all cores); faces sharing one Surface object run in the same task

@@ -1,5 +1,6 @@
 // uvmesh::surface::mesh_model -- the main job: a geom::Model in, one conforming,
-// watertight surface mesh out (DESIGN.md data flow; reference chapter §7.5-7.6.2).
+// watertight surface mesh out (docs/ARCHITECTURE.md data flow; reference chapter
+// §7.5-7.6.2).
 //
 //   surface::MeshOptions o;
 //   o.size = surface::default_size(model);      // hmax = D/20 ... (see default_size)
@@ -60,6 +61,12 @@ struct MeshOptions {
 /// gradation 1.3.
 param::SizeSpec default_size(const geom::Model& m);
 
+/// The sizes mesh_model makes elements for: opt.size with its chordal tolerance divided
+/// by opt.chordal_safety (MeshResult::size holds them after a run). What a check of the
+/// mesh measures unit edges against; the chordal deviation is still compared with the
+/// tolerance the user asked for, opt.size.chordal_tol.
+param::SizeSpec meshing_size(const MeshOptions& opt);
+
 /// The narrowest gap the sizes resolve: proximity (two edges of a face closer than the
 /// size) refines down to hmin / 100 (hmin = D/1000 when unset), no further. A face
 /// narrower than that -- a CAD sliver, the last micrometres of a tangential contact --
@@ -70,9 +77,10 @@ double proximity_floor(const param::SizeSpec& spec, double diagonal);
 /// them: kGapToleranceFactor (1: the two tolerance tubes touch) times the sum of their
 /// gap_tolerance()s. Closer than that, the CAD model itself does not know on which side of the
 /// other either curve lies: OCC's tolerances say a curve may be anywhere within its tolerance of
-/// where it is drawn. Refining such a "gap" meshed the model's noise (gmsh_crankshaft: pcurves
-/// ending 0.009 mm from their 3D vertex, edges graded down to 0.0002 mm segments there, and needles
-/// of Q 58 between the curve's nodes and the surface's image of the pcurve).
+/// where it is drawn. Refining such a "gap" meshed the model's noise: pcurves ending a
+/// hundredth of a millimetre from their 3D vertex had their edges graded down to segments
+/// some forty times shorter than that gap, and needles formed between the curve's nodes and the
+/// surface's image of the pcurve.
 inline constexpr double kGapToleranceFactor = 1.0;
 /// An edge's tolerance for that purpose: the largest of its own and its end vertices'.
 double gap_tolerance(const geom::Model& m, geom::Id edge);
@@ -104,6 +112,9 @@ struct Stage {
 
 struct MeshResult {
   SurfaceMesh mesh;
+  /// The sizes the elements were made for: meshing_size(options), so that a report of
+  /// the mesh measures against what was used instead of deriving it again.
+  param::SizeSpec size;
   std::vector<FaceFailure> failed;
   std::vector<FaceStats> faces;
   std::vector<Stage> stages;

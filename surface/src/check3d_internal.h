@@ -1,0 +1,85 @@
+// Helpers shared by the files that implement check3d.h (check3d.cpp: topology,
+// check3d_intersections.cpp, check3d_quality.cpp: shape and edge lengths,
+// check3d_chordal.cpp). Not installed.
+#pragma once
+
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <queue>
+#include <vector>
+
+#include "predicates3d.h"
+#include "uvmesh/surface/check3d.h"
+
+namespace uvmesh::surface::check3d_impl {
+
+using geom::Vec2;
+using geom::Vec3;
+
+inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kAlpha = 0.28867513459481287;  // sqrt(3)/6: Q = 1 for the equilateral
+
+// Arena of `threads` workers (0: TBB's default, all cores).
+inline tbb::task_arena make_arena(int threads) {
+  return threads > 0 ? tbb::task_arena(threads) : tbb::task_arena();
+}
+
+enum TriState : std::int8_t { kValid = 0, kBadIndex = 1, kRepeated = 2 };
+
+inline TriState tri_state(const SurfaceMesh& m, std::size_t t) {
+  const auto& tr = m.triangles[t];
+  const auto n = static_cast<NodeId>(m.points.size());
+  for (NodeId i : tr)
+    if (i < 0 || i >= n) return kBadIndex;
+  if (tr[0] == tr[1] || tr[1] == tr[2] || tr[2] == tr[0]) return kRepeated;
+  return kValid;
+}
+
+inline pred3::Tri corners(const SurfaceMesh& m, std::size_t t) {
+  const auto& tr = m.triangles[t];
+  return {m.points[tr[0]], m.points[tr[1]], m.points[tr[2]]};
+}
+
+inline geom::Id face_of(const SurfaceMesh& m, std::size_t t) {
+  return t < m.triangle_face.size() ? m.triangle_face[t] : geom::kNone;
+}
+
+// Keeps the k smallest values pushed (a bounded max-heap), for capped sorted lists whose
+// content does not depend on the order in which the values were found.
+template <class T>
+class SmallestK {
+ public:
+  explicit SmallestK(std::size_t k) : k_(k) {}
+  void push(const T& v) {
+    if (k_ == 0) return;
+    if (heap_.size() < k_) {
+      heap_.push(v);
+    } else if (v < heap_.top()) {
+      heap_.pop();
+      heap_.push(v);
+    }
+  }
+  void merge(SmallestK& o) {
+    while (!o.heap_.empty()) {
+      push(o.heap_.top());
+      o.heap_.pop();
+    }
+  }
+  std::vector<T> sorted() {
+    std::vector<T> v;
+    while (!heap_.empty()) {
+      v.push_back(heap_.top());
+      heap_.pop();
+    }
+    std::reverse(v.begin(), v.end());
+    return v;
+  }
+
+ private:
+  std::size_t k_;
+  std::priority_queue<T> heap_;
+};
+
+}  // namespace uvmesh::surface::check3d_impl
