@@ -103,16 +103,14 @@ namespace {
 // the box in each direction (the largest metric speed of the samples times the side):
 // kCellsPerUnit cells per unit length, as a power of two between 16 (the size field's own
 // grid, FaceSizeField's 17 x 17 nodes, whose lines then are grid lines) and 64 (the fixed
-// size before; a face more than 32 units across keeps it). Measured on subdivision
-// models: 2 cells per unit cost twice the exact metrics of 1 cell, and 1 cell down to
-// 8 x 8 a fifth fewer, with the same shares of Q < 1.5 (but at 8 the size field's grid
-// lines fall inside cells).
+// size before; a face more than 32 units across keeps it). Finer top cells fill more
+// exact metrics for the same mesh quality; coarser ones (down to 8 x 8) save little and
+// put the size field's grid lines inside cells.
 // A face with a pole keeps 64 x 64: the cells along a singular side are never split
 // (UvMetricGrid::split_needed), so their size is the width of the smoothed field the
-// pole handling sees; 16 cells there left two triangles of Q above 3 between caps
-// wedged between sub-hmin features (test "caps wedged between sub-hmin features").
-// CAD surfaces keep 64 x 64 too: the counts from the metric speed gave a CAD part at
-// --hmax D/40 --angle 30 self-intersecting pairs and a triangle of Q 4.5. A subdivision
+// pole handling sees; 16 cells there left poor triangles (test "caps wedged between
+// sub-hmin features"). CAD surfaces keep 64 x 64 too: on CAD parts the counts from the
+// metric speed gave self-intersecting pairs and poor triangles. A subdivision
 // patch (SurfaceKind::Other) is one smooth polynomial piece a few elements across, where
 // the count from the speed is what saves the time.
 constexpr double kCellsPerUnit = 1.0;

@@ -96,7 +96,7 @@ class UvMetricGrid {
 /// is strongly anisotropic as a whole -- an angle parameter times a radius against a
 /// length, a thin band of a cylinder -- that first triangulation is made of fans of long
 /// edges running along the boundary, every point sampled on them is too close to the
-/// boundary, and the fans stay (metric Q in the hundreds). So v is scaled by
+/// boundary, and the fans stay. So v is scaled by
 /// k = mean(sqrt m22) / mean(sqrt m11) over the face, which makes the metric isotropic
 /// on average; the metric is transformed accordingly (M' = S^-T M S^-1, S = diag(1, k))
 /// and the vertices are scaled back.

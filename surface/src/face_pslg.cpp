@@ -87,8 +87,7 @@ void add_use_points(const FaceInput& job, const geom::EdgeUse& use, FacePslg& ps
 // CAD edge is shorter than the floor (the 1D sizes stop there, proximity_floor()), and
 // the edges beside them are not graded below it. Their length is no size to grade the
 // interior from either: it refined the interior around them down to their length, against
-// boundary segments at the floor, and fans of needles joined the two (edges a hundredth
-// and a thousandth of the floor gave interior triangles of Q above 3).
+// boundary segments at the floor, and fans of needles joined the two.
 void close_loop(const FaceInput& job, m2d::VertId start, m2d::VertId end, double seg_floor,
                 FacePslg& pslg) {
   for (m2d::VertId i = start; i < end; ++i) {

@@ -174,9 +174,8 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
 // A triangle whose centroid deviates by more than 0.9 tol has its longest interior
 // edge split, and so has an interior edge whose midpoint deviates: 2 triangles to 4 at
 // the (u,v) midpoint, which gives two pairs of halves instead of the 120-degree caps of
-// a 1-to-3 split (centroid splits left many more triangles above Q 1.5 on a turbine
-// blade). A triangle with no interior edge is split at its centroid's foot. Then 3D
-// swaps and smoothing.
+// a 1-to-3 split (centroid splits left many more poor triangles). A triangle with no interior edge
+// is split at its centroid's foot. Then 3D swaps and smoothing.
 void repair_chordal(const FaceInput& job, LocalMesh& lm, FaceStats& stats) {
   const MeshOptions& opt = job.opt;
   if (opt.size.chordal_tol > 0)
