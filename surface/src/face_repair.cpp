@@ -88,12 +88,14 @@ int flat_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2& bo
   return split_edges_at_uv_midpoints(lm, s, uses, to_split, touched);
 }
 
-// One round of the chordal repair (repair_chordal): returns the splits made.
-int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2& box, double lim) {
-  auto ccw = [](const geom::Vec2& a, const geom::Vec2& b, const geom::Vec2& c) {
-    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) > 0;
-  };
-  auto deviates = [&](const geom::Vec3& x, const geom::Vec2& uv0, double scale, geom::Vec2* foot) {
+// Whether the 3D point x, near sigma(uv0), lies farther than lim from the surface; with
+// foot, also the (u,v) of its projection.
+struct Deviates {
+  const geom::Surface& s;
+  const geom::Box2& box;
+  double lim;
+  bool operator()(const geom::Vec3& x, const geom::Vec2& uv0, double scale,
+                  geom::Vec2* foot) const {
     // sigma(uv0) is a point of the surface: when it is within lim of x, so is the
     // surface, and the Newton projection (several evaluations with derivatives, a
     // large share of the repair's time) is not needed.
@@ -104,7 +106,48 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
     const Projection pr = project_to_surface(s, x, uv0, box, scale);
     if (foot) *foot = pr.uv;
     return pr.converged && pr.distance > lim;
+  }
+};
+
+// Splits each triangle of centroid_split not touched yet, 1 to 3, at the foot of its 3D
+// centroid on the surface; returns the splits made.
+int split_at_centroid_feet(LocalMesh& lm, const geom::Surface& s, const Deviates& deviates,
+                           const std::vector<std::size_t>& centroid_split,
+                           const std::vector<char>& touched) {
+  auto ccw = [](const geom::Vec2& a, const geom::Vec2& b, const geom::Vec2& c) {
+    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) > 0;
   };
+  int splits = 0;
+  for (std::size_t t : centroid_split) {
+    if (touched[t]) continue;
+    const auto T = lm.tris[t];
+    const geom::Vec2 uc = (lm.uv[T[0]] + lm.uv[T[1]] + lm.uv[T[2]]) / 3.0;
+    geom::Vec2 foot = uc;
+    const geom::Vec3 pc = (lm.p[T[0]] + lm.p[T[1]] + lm.p[T[2]]) / 3.0;
+    deviates(pc, uc, glm::length(lm.p[T[1]] - lm.p[T[0]]), &foot);
+    // The foot, when it lies inside the (u,v) triangle; else the (u,v) centroid.
+    if (!ccw(lm.uv[T[0]], lm.uv[T[1]], foot) || !ccw(lm.uv[T[1]], lm.uv[T[2]], foot) ||
+        !ccw(lm.uv[T[2]], lm.uv[T[0]], foot))
+      foot = uc;
+    {
+      const geom::Vec3 q = s.point(foot.x, foot.y);
+      if (!splits_in_3d(lm.p[T[0]], lm.p[T[1]], q) || !splits_in_3d(lm.p[T[1]], lm.p[T[2]], q))
+        continue;
+    }
+    const int n =
+        add_local_point(lm, s, foot, (lm.scale[T[0]] + lm.scale[T[1]] + lm.scale[T[2]]) / 3.0);
+    if (n < 0) continue;
+    lm.tris[t] = {T[0], T[1], n};
+    lm.tris.push_back({T[1], T[2], n});
+    lm.tris.push_back({T[2], T[0], n});
+    ++splits;
+  }
+  return splits;
+}
+
+// One round of the chordal repair (repair_chordal): returns the splits made.
+int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2& box, double lim) {
+  const Deviates deviates{s, box, lim};
   const std::size_t nt = lm.tris.size();
   // Interior edges -> their two (triangle, opposite corner) uses.
   const EdgeUses uses(lm);
@@ -137,32 +180,8 @@ int chordal_split_round(LocalMesh& lm, const geom::Surface& s, const geom::Box2&
       to_split.push_back({a, b});
   });
   std::vector<char> touched(nt, 0);
-  int splits = split_edges_at_uv_midpoints(lm, s, uses, to_split, touched);
-  for (std::size_t t : centroid_split) {
-    if (touched[t]) continue;
-    const auto T = lm.tris[t];
-    const geom::Vec2 uc = (lm.uv[T[0]] + lm.uv[T[1]] + lm.uv[T[2]]) / 3.0;
-    geom::Vec2 foot = uc;
-    const geom::Vec3 pc = (lm.p[T[0]] + lm.p[T[1]] + lm.p[T[2]]) / 3.0;
-    deviates(pc, uc, glm::length(lm.p[T[1]] - lm.p[T[0]]), &foot);
-    // The foot, when it lies inside the (u,v) triangle; else the (u,v) centroid.
-    if (!ccw(lm.uv[T[0]], lm.uv[T[1]], foot) || !ccw(lm.uv[T[1]], lm.uv[T[2]], foot) ||
-        !ccw(lm.uv[T[2]], lm.uv[T[0]], foot))
-      foot = uc;
-    {
-      const geom::Vec3 q = s.point(foot.x, foot.y);
-      if (!splits_in_3d(lm.p[T[0]], lm.p[T[1]], q) || !splits_in_3d(lm.p[T[1]], lm.p[T[2]], q))
-        continue;
-    }
-    const int n =
-        add_local_point(lm, s, foot, (lm.scale[T[0]] + lm.scale[T[1]] + lm.scale[T[2]]) / 3.0);
-    if (n < 0) continue;
-    lm.tris[t] = {T[0], T[1], n};
-    lm.tris.push_back({T[1], T[2], n});
-    lm.tris.push_back({T[2], T[0], n});
-    ++splits;
-  }
-  return splits;
+  const int splits = split_edges_at_uv_midpoints(lm, s, uses, to_split, touched);
+  return splits + split_at_centroid_feet(lm, s, deviates, centroid_split, touched);
 }
 
 }  // namespace
