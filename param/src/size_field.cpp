@@ -68,7 +68,7 @@ Metric2 induced_metric(const Metric3& m3, const geom::SurfacePoint& e, const Siz
   r.m[1][1] = glm::dot(e.dv, mv);
   // Within the anisotropy cap (lambda_min / lambda_max >= 1 / A^2) M_uv is returned as
   // it is; that is decided from the trace and the determinant without the Jacobi
-  // eigen-decomposition (5% of the CPU time of meshing catmark_pawn went there):
+  // eigen-decomposition (the metric is asked for at every grid node and sample):
   // det / tr^2 = r / (1 + r)^2 grows with r = lambda_min / lambda_max on (0, 1].
   {
     const double tr = r.m[0][0] + r.m[1][1], det = r.determinant();
@@ -127,8 +127,8 @@ int gradate(std::vector<Metric3>& metrics, const std::vector<geom::Vec3>& points
       // Most edges of a gradated grid ask for nothing: M_j - grown positive definite means
       // the unit ball of M_j lies inside grown's, so intersect(M_j, grown) = M_j. Tested
       // by the leading principal minors (Sylvester), which costs a few products, while the
-      // intersection takes three eigen-decompositions (gradate was 14% of the CPU time of
-      // meshing catmark_pawn, for 400 updates per 289-node grid).
+      // intersection takes three eigen-decompositions (and a grid has far more edges than
+      // updates).
       if (dominates(mj, grown)) continue;
       const Metric3 next = intersect(mj, grown);
       double diff = 0.0, ref = 0.0;
@@ -159,9 +159,9 @@ FaceSizeField::FaceSizeField(const geom::Surface& s, const geom::Box2& box, cons
   std::vector<geom::Vec3> pts;
   pts.reserve(static_cast<std::size_t>(n_ * n_));
   grid.reserve(static_cast<std::size_t>(n_ * n_));
-  // One evaluation per node gives its point, its metric and whether it is singular (the
-  // three used to evaluate sigma three times: 12% of the CPU time of meshing
-  // catmark_car went to building fields).
+  // One evaluation per node gives its point, its metric and whether it is singular
+  // (instead of three evaluations of sigma; building the fields is a visible share of
+  // the meshing time on models of many small faces).
   std::vector<char> singular(static_cast<std::size_t>(n_ * n_), 0);
   for (int i = 0; i < n_; ++i)
     for (int j = 0; j < n_; ++j) {

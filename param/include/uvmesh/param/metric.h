@@ -235,7 +235,7 @@ Metric<N> Metric<N>::clamped(double hmin, double hmax) const {
 template <int N>
 Metric<N> intersect(const Metric<N>& a, const Metric<N>& b) {
   // A^{1/2} and A^{-1/2} from one eigen-decomposition of A (the same one power() makes;
-  // gradation's intersections were 5% of the CPU time of meshing catmark_car).
+  // the gradation intersects metrics at every update).
   const Eigen<N> ea = a.eigen();
   std::array<double, N> sq, isq;
   for (int i = 0; i < N; ++i) {

@@ -1,4 +1,4 @@
-// 3D size field and the induced (u,v) metric (DESIGN.md: "param").
+// 3D size field and the induced (u,v) metric (docs/ARCHITECTURE.md: "param").
 //
 //   param::SizeSpec spec;
 //   spec.hmax = diag / 20;  spec.hmin = diag / 2000;  spec.chordal_tol = diag * 1e-3;
