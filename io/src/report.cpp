@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "uvmesh/geom/project.h"
+#include "uvmesh/mesher2d/measures.h"
 #include "uvmesh/surface/mesher.h"
 
 namespace uvmesh::io {
@@ -154,7 +155,8 @@ std::optional<surface::EdgeLengthReport> metric_lengths(const SurfaceMesh& m,
   return surface::measure_edge_lengths(m, [&](NodeId a, NodeId b) {
     const auto ia = static_cast<std::size_t>(a), ib = static_cast<std::size_t>(b);
     const geom::Vec3 e = m.points[ib] - m.points[ia];
-    if (has[ia] && has[ib]) return 0.5 * (metric[ia].length(e) + metric[ib].length(e));
+    if (has[ia] && has[ib])
+      return measures::edge_length(metric[ia].length(e), metric[ib].length(e));
     if (has[ia] || has[ib]) return metric[has[ia] ? ia : ib].length(e);
     return glm::length(e) / spec.hmax;  // no surface on either side: the largest size
   });
@@ -458,9 +460,10 @@ nlohmann::json report_json(const CheckData& d) {
                                    {"max", el.max * d.median_edge},
                                    {"mean", el.mean * d.median_edge},
                                    {"share_within_sqrt2_of_median", el.unit_share}};
-  if (d.metric_edge_lengths)
+  if (d.metric_edge_lengths) {
     j["metric_edge_lengths"] = edge_length_json(*d.metric_edge_lengths);
-  else if (!d.metric_unavailable.empty())
+    j["metric_edge_lengths"]["metric"] = kSizeFieldMetricName;
+  } else if (!d.metric_unavailable.empty())
     j["metric_edge_lengths"] = {{"unavailable", d.metric_unavailable}};
   if (d.chordal) {
     const surface::ChordalReport& ch = *d.chordal;

@@ -172,7 +172,7 @@ void FieldPoints::edge_candidates(TriId t, int i) {
     const Metric2& mu = ms.m_uniform;
     if (!(mu.m11 * d.x * d.x + 2 * mu.m12 * d.x * d.y + mu.m22 * d.y * d.y > 1.99)) return;
     const double L = length(ms.m_uniform, d);
-    if (!(L > kSqrt2)) return;
+    if (!(L > measures::kUnitMax)) return;
     const int n = std::max(2, static_cast<int>(std::lround(L)));
     for (int k = 1; k < n; ++k)
       cands.push_back({{pa.x + d.x * k / n, pa.y + d.y * k / n}, a, k > 1});
@@ -201,7 +201,7 @@ void FieldPoints::edge_candidates(TriId t, int i) {
     }
   }
   const double L = es.sample(pa, pb, ms.vm[a], ms.vm[b], ra, rb);
-  if (!(L > kSqrt2)) return;
+  if (!(L > measures::kUnitMax)) return;
   const int n = std::max(2, static_cast<int>(std::lround(L)));
   bool first = true;
   // Unscaled metric length of the edge, for the gradation bound of ratio_at.

@@ -5,12 +5,12 @@
 #include <unordered_set>
 
 #include "metric_util.h"
+#include "uvmesh/mesher2d/measures.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 
 namespace uvmesh::m2d {
 
 namespace {
-constexpr double kAlpha = 0.28867513459481287;  // sqrt(3)/6: Q = 1 for the equilateral
 constexpr double kPi = 3.14159265358979323846;
 
 struct Shape {
@@ -27,10 +27,8 @@ Shape shape(Vec2 a, Vec2 b, Vec2 c) {
   const double ab = std::sqrt(ab2), bc = std::sqrt(bc2), ca = std::sqrt(ca2);
   const double area2 = ux * (c.y - a.y) - uy * (c.x - a.x);
   if (!(area2 > 0)) return {std::numeric_limits<double>::infinity(), -1, 1};
-  // rho = 2 * area / perimeter = area2 / (ab + bc + ca)
-  const double hmax = std::max({ab, bc, ca});
   Shape s;
-  s.q = kAlpha * hmax * (ab + bc + ca) / area2;
+  s.q = measures::shape_Q(ab, bc, ca, area2);
   // cos at a = -(u.w)/(|u||w|), at b = -(u.v)/(|u||v|), at c = -(v.w)/(|v||w|)
   const double ca_ = -(ux * wx + uy * wy) / (ab * ca);
   const double cb_ = -(ux * vx + uy * vy) / (ab * bc);
@@ -81,7 +79,7 @@ void add_euclidean_shape(ShapeSums& e, Vec2 a, Vec2 b, Vec2 c) {
     e.cmax = 1, e.cmin = -1;
     return;
   }
-  const double q = kAlpha * std::max({ab, bc, ca}) * (ab + bc + ca) / area2;
+  const double q = measures::shape_Q(ab, bc, ca, area2);
   e.q_max = std::max(e.q_max, q);
   e.qsum += q;
   e.n15 += q < 1.5;
@@ -144,12 +142,12 @@ void measure_edges(Quality& out, const std::vector<Vec2>& vertices,
     const double l =
         size.kind == SizeSpec::Kind::Uniform
             ? detail::length(m_uniform, d)
-            : (detail::length(vm[a], d) +
-               4 * detail::length(detail::metric_at(size, 0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y)),
-                                  d) +
-               detail::length(vm[b], d)) /
-                  6;
-    unit += (l >= 0.7071067811865476 && l <= 1.4142135623730951);
+            : measures::edge_length(
+                  detail::length(vm[a], d),
+                  detail::length(detail::metric_at(size, 0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y)),
+                                 d),
+                  detail::length(vm[b], d));
+    unit += measures::is_unit(l);
     lsum += l;
     out.edge_len_min = std::min(out.edge_len_min, l);
     out.edge_len_max = std::max(out.edge_len_max, l);

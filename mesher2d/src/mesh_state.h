@@ -17,12 +17,13 @@
 
 #include "metric_util.h"
 #include "triangulation.h"
+#include "uvmesh/mesher2d/measures.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 
 namespace uvmesh::m2d::detail {
 
-// Unit mesh bounds (§7.5.2): an edge conforms when its metric length is in [1/sqrt2, sqrt2].
-constexpr double kSqrt2 = 1.4142135623730951;
+// Unit mesh bounds (§7.5.2): an edge conforms when its metric length is in
+// [measures::kUnitMin, measures::kUnitMax] = [1/sqrt2, sqrt2].
 // Field-point filter (§7.3.5): a candidate closer than this (metric length) to an existing
 // vertex is dropped. Just above 1/sqrt2, so that no edge shorter than the unit-mesh lower
 // bound is created by refinement.

@@ -6,13 +6,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "uvmesh/mesher2d/measures.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 
 namespace uvmesh::m2d::detail {
 
 // Length of vector d in metric m: sqrt(d^T M d) (the integrand of eq. 7.10).
 inline double length(const Metric2& m, Vec2 d) {
-  return std::sqrt(std::max(0.0, m.m11 * d.x * d.x + 2 * m.m12 * d.x * d.y + m.m22 * d.y * d.y));
+  return measures::metric_length(m.m11, m.m12, m.m22, d.x, d.y);
 }
 
 // Convex combination of SPD tensors: SPD. Used as the metric of a triangle or an edge

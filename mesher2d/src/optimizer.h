@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mesh_state.h"
+#include "uvmesh/mesher2d/measures.h"
 
 namespace uvmesh::m2d::detail {
 
@@ -26,9 +27,7 @@ inline double q_inv(Vec2 a, Vec2 b, Vec2 c) {
   // sqrt is correctly rounded and monotone: the longest edge's length is the largest of
   // the three roots, bit for bit what sqrt(max(ab2, bc2, ca2)) gave, one sqrt fewer.
   const double ab = std::sqrt(ab2), bc = std::sqrt(bc2), ca = std::sqrt(ca2);
-  const double per = ab + bc + ca;
-  const double hmax = std::max({ab, bc, ca});
-  return area2 / (per * hmax * 0.28867513459481287);
+  return measures::shape_q(ab, bc, ca, area2);
 }
 
 class Optimizer {

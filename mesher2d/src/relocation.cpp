@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "optimizer.h"
+#include "uvmesh/mesher2d/measures.h"
 #include "uvmesh/mesher2d/predicates.h"
 
 namespace uvmesh::m2d::detail {
@@ -56,7 +57,7 @@ double Optimizer::maxmin_core(Vec2& p, double qstop, int iters, const MetricFram
       const double la = std::sqrt(ux * ux + uy * uy), lb = std::sqrt(wx * wx + wy * wy),
                    le = std::sqrt(ex * ex + ey * ey);
       const double per = la + lb + le, hm = std::max({la, lb, le});
-      const double q = area2 / (0.28867513459481287 * per * hm);
+      const double q = measures::shape_q(la, lb, le, area2);
       qk_[k] = q;
       qmin = std::min(qmin, q);
       if (grad) {
@@ -157,7 +158,7 @@ bool Optimizer::pnorm_core(Vec2& p, const MetricFrame& vf, const std::vector<Ver
       const double la = std::sqrt(ux * ux + uy * uy), lb = std::sqrt(wx * wx + wy * wy),
                    le = std::sqrt(ex * ex + ey * ey);
       const double per = la + lb + le, hm = std::max({la, lb, le});
-      const double Q = 0.28867513459481287 * per * hm / area2;
+      const double Q = measures::shape_Q(la, lb, le, area2);
       if (s == 0) continue;
       const double r2 = (Q / s) * (Q / s), r4 = r2 * r2, term = r4 * r4;  // (Q / s)^8
       F += term;

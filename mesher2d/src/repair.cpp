@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "optimizer.h"
+#include "uvmesh/mesher2d/measures.h"
 #include "uvmesh/mesher2d/predicates.h"
 
 namespace uvmesh::m2d::detail {
@@ -105,7 +106,7 @@ bool Optimizer::collapse_into(VertId v, VertId u, double floor, bool size_check)
         if (!ok || !accept_q(nmin, old_min, floor)) return false;
         if (size_check)
           for (const VertId w : rv_)
-            if (w != u && true_len(p, ms.vm[u], ms.rs[u], w) > kSqrt2) return false;
+            if (w != u && true_len(p, ms.vm[u], ms.rs[u], w) > measures::kUnitMax) return false;
       } else {
         if (has_constrained_edge(u) || !gather_ring(u, ru_)) return false;
         old_min = std::min(old_min, ball_min(u, ru_));
@@ -150,7 +151,7 @@ bool Optimizer::collapse_into(VertId v, VertId u, double floor, bool size_check)
         if (size_check) {
           const Metric2 mp = point_metric(p, ms.rs[u]);
           for (const VertId w : merged_)
-            if (true_len(p, mp, ms.rs[u], w) > kSqrt2) return false;
+            if (true_len(p, mp, ms.rs[u], w) > measures::kUnitMax) return false;
         }
       }
       if (ms.tri.collapse_edge(v, u, p)) {
@@ -221,7 +222,7 @@ bool Optimizer::split_at(std::int32_t h, double floor, bool size_check) {
     const Vec2 pp = iso_uniform_ ? fp : f.inv(fp);
     const Metric2 mp = point_metric(pp, rm);
     for (const VertId w : merged_)
-      if (true_len(pp, mp, rm, w) < 1 / kSqrt2) return false;
+      if (true_len(pp, mp, rm, w) < measures::kUnitMin) return false;
   }
   const VertId nv = ms.tri.split_edge(h, m);
   if (nv == kNone) return false;
@@ -262,7 +263,8 @@ double Optimizer::true_len(Vec2 p, const Metric2& mp, double rp, VertId w) {
   const Vec2 d{q.x - p.x, q.y - p.y};
   const double rm = std::sqrt(rp * (static_cast<std::size_t>(w) < ms.rs.size() ? ms.rs[w] : 1.0));
   const Metric2 mm = point_metric({0.5 * (p.x + q.x), 0.5 * (p.y + q.y)}, rm);
-  return (detail::length(mp, d) + 4 * detail::length(mm, d) + detail::length(ms.vm[w], d)) / 6;
+  return measures::edge_length(detail::length(mp, d), detail::length(mm, d),
+                               detail::length(ms.vm[w], d));
 }
 
 // Squared length of edge (a, b) for ranking the edges of a triangle: Euclidean for a
@@ -466,9 +468,9 @@ std::int64_t Optimizer::size_pass(double floor) {
         continue;
       const VertId a = ms.tri.vertex(t, detail::next3(i)), b = ms.tri.vertex(t, detail::prev3(i));
       const double l = true_len(ms.tri.point(a), ms.vm[a], ms.rs[a], b);
-      if (l > kSqrt2)
+      if (l > measures::kUnitMax)
         longs.push_back({l, a, b});
-      else if (l < 1 / kSqrt2)
+      else if (l < measures::kUnitMin)
         shorts.push_back({l, a, b});
     }
   }
@@ -479,7 +481,7 @@ std::int64_t Optimizer::size_pass(double floor) {
     if (ms.over_time("optimization")) return changes;
     const std::int32_t h = ms.tri.find_half_edge(e.a, e.b);
     if (h == kNone || !ms.in_domain(h / 3)) continue;
-    if (!(true_len(ms.tri.point(e.a), ms.vm[e.a], ms.rs[e.a], e.b) > kSqrt2)) continue;
+    if (!(true_len(ms.tri.point(e.a), ms.vm[e.a], ms.rs[e.a], e.b) > measures::kUnitMax)) continue;
     changes += split_at(h, floor, true);
   }
   if (!ms.opt.collapse_short_edges) return changes;
@@ -488,7 +490,7 @@ std::int64_t Optimizer::size_pass(double floor) {
     if (ms.tri.vertex_tri(e.a) == kNone || ms.tri.vertex_tri(e.b) == kNone) continue;
     const std::int32_t h = ms.tri.find_half_edge(e.a, e.b);
     if (h == kNone || !ms.in_domain(h / 3)) continue;
-    if (!(true_len(ms.tri.point(e.a), ms.vm[e.a], ms.rs[e.a], e.b) < 1 / kSqrt2)) continue;
+    if (!(true_len(ms.tri.point(e.a), ms.vm[e.a], ms.rs[e.a], e.b) < measures::kUnitMin)) continue;
     changes += collapse_into(e.a, e.b, floor, true) || collapse_into(e.b, e.a, floor, true);
   }
   return changes;

@@ -303,6 +303,7 @@ int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::Me
   for (const auto& fs : r.faces) ne += fs.edges, ns += fs.short_edges, nl += fs.long_edges;
   j["unit_edge_share"] = r.unit_edge_share();
   j["edge_lengths"] = {{"edges", ne}, {"short", ns}, {"long", nl}};
+  j["unit_edge_share_metric"] = surface::kFaceMetricName;
   nlohmann::json failed = nlohmann::json::array();
   for (const auto& ff : r.failed) failed.push_back({{"face", ff.face}, {"reason", ff.reason}});
   j["failed_faces"] = failed;

@@ -19,7 +19,6 @@ using geom::Vec2;
 using geom::Vec3;
 
 inline constexpr double kPi = 3.14159265358979323846;
-inline constexpr double kAlpha = 0.28867513459481287;  // sqrt(3)/6: Q = 1 for the equilateral
 
 // Arena of `threads` workers (0: TBB's default, all cores).
 inline tbb::task_arena make_arena(int threads) {

@@ -14,6 +14,7 @@
 #include <queue>
 
 #include "check3d_internal.h"
+#include "uvmesh/mesher2d/measures.h"
 #include "uvmesh/surface/check3d.h"
 
 namespace uvmesh::surface {
@@ -30,8 +31,7 @@ double triangle_Q(const Vec3& a, const Vec3& b, const Vec3& c) {
   const double ab = glm::length(b - a), bc = glm::length(c - b), ca = glm::length(a - c);
   const double area2 = glm::length(glm::cross(b - a, c - a));  // twice the area
   if (!(area2 > 0)) return std::numeric_limits<double>::infinity();
-  // rho = 2 area / perimeter  =>  Q = alpha hmax perimeter / (2 area)
-  return kAlpha * std::max({ab, bc, ca}) * (ab + bc + ca) / area2;
+  return measures::shape_Q(ab, bc, ca, area2);
 }
 
 QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_gap,
@@ -177,7 +177,7 @@ EdgeLengthReport measure_edge_lengths(const SurfaceMesh& m,
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   r.edges = edges.size();
   if (edges.empty()) return r;
-  const double lo = std::sqrt(0.5), hi = std::sqrt(2.0);
+  measures::UnitEdges u;
   double sum = 0;
   r.min = std::numeric_limits<double>::infinity();
   r.max = -std::numeric_limits<double>::infinity();
@@ -186,19 +186,17 @@ EdgeLengthReport measure_edge_lengths(const SurfaceMesh& m,
     sum += l;
     r.min = std::min(r.min, l);
     r.max = std::max(r.max, l);
-    if (l < lo)
-      ++r.short_edges;
-    else if (l > hi)
-      ++r.long_edges;
-    else
-      ++r.unit;
+    u.add(l);
     // Bin: the last lower bound <= l (bins 7 and 8 are [2^-1/2, 1) and [1, 2^1/2)).
     const auto it = std::upper_bound(r.bin_lo.begin(), r.bin_lo.end(), l);
     const auto bin = std::max<std::ptrdiff_t>(0, (it - r.bin_lo.begin()) - 1);
     ++r.bin_count[bin];
   }
   r.mean = sum / static_cast<double>(edges.size());
-  r.unit_share = static_cast<double>(r.unit) / static_cast<double>(edges.size());
+  r.unit = static_cast<std::size_t>(u.unit);
+  r.short_edges = static_cast<std::size_t>(u.short_edges);
+  r.long_edges = static_cast<std::size_t>(u.long_edges);
+  r.unit_share = u.share();
   return r;
 }
 

@@ -9,6 +9,7 @@
 
 #include "face_metric.h"
 #include "face_stage.h"
+#include "uvmesh/mesher2d/measures.h"
 
 namespace uvmesh::surface::detail {
 
@@ -126,7 +127,7 @@ bool bind_boundary_nodes(const FaceInput& job, const FacePslg& pslg, const m2d::
 }
 
 // ---- map back: boundary vertices are global nodes; the others are new points on sigma.
-// Each vertex keeps the scale mesher2d applied to the field there (FaceMetric).
+// Each vertex keeps the scale mesher2d applied to the field there (Mesh::boundary_scale).
 bool map_back(const FaceInput& job, const FacePslg& pslg, const FaceMetric& metric,
               const m2d::Mesh& mm, LocalMesh& lm, FaceMesh& out) {
   const std::size_t nv = mm.vertices.size();
@@ -138,8 +139,7 @@ bool map_back(const FaceInput& job, const FacePslg& pslg, const FaceMetric& metr
   lm.scale.assign(nv, 1.0);
   for (std::size_t v = 0; v < nv; ++v) {
     lm.uv[v] = metric.from_mesher(mm.vertices[v]);
-    if (v < mm.vertex_metric.size())
-      lm.scale[v] = metric.boundary_scale(lm.uv[v], mm.vertex_metric[v]);
+    if (v < mm.boundary_scale.size()) lm.scale[v] = mm.boundary_scale[v];
     lm.p[v] = lm.global[v] >= 0 ? job.node_points[static_cast<std::size_t>(lm.global[v])]
                                 : job.s.point(lm.uv[v].x, lm.uv[v].y);
   }
@@ -195,14 +195,11 @@ void count_unit_edges(const LocalMesh& lm, std::size_t nvf, const FaceMetric& me
         if (hi - lo > 1) continue;
       }
       const geom::Vec3 d = lm.p[b] - lm.p[a];
-      const double la = metric_at(a).length(d), lb = metric_at(b).length(d);
-      const double ratio = la > 0 ? lb / la : 1.0;
-      const double L = (std::abs(ratio - 1) < 1e-3 || !(ratio > 0)) ? 0.5 * (la + lb)
-                                                                    : (lb - la) / std::log(ratio);
+      const double L = measures::edge_length(metric_at(a).length(d), metric_at(b).length(d));
       ++stats.edges;
-      if (L < std::sqrt(0.5))
+      if (L < measures::kUnitMin)
         ++stats.short_edges;
-      else if (L > std::sqrt(2.0))
+      else if (L > measures::kUnitMax)
         ++stats.long_edges;
       else
         ++stats.unit_edges;

@@ -193,13 +193,4 @@ void FaceMetric::mesher_options(const param::SizeSpec& size, m2d::Options& o) {
   o.boundary_gradation = std::max(size.gradation, 1.05);
 }
 
-// RECONSTRUCTED BOUNDARY SCALE (see face_metric.h): the ratio of the traces of the metric
-// mesher2d placed the vertex for and of the exact field, both in mesher2d's frame.
-double FaceMetric::boundary_scale(const geom::Vec2& uv, const m2d::Metric2& placed_for) const {
-  const param::Metric2 fm = field_.metric_uv(uv.x, uv.y);
-  const double tr = fm(0, 0) + fm(1, 1) / (vscale_ * vscale_);
-  if (tr > 0) return std::max(1.0, (placed_for.m11 + placed_for.m22) / tr);
-  return 1.0;
-}
-
 }  // namespace uvmesh::surface::detail

@@ -127,14 +127,7 @@ class FaceMetric {
   /// the gradation from the boundary sizes.
   static void mesher_options(const param::SizeSpec& size, m2d::Options& o);
 
-  /// RECONSTRUCTED BOUNDARY SCALE. The factor mesher2d multiplied the field by at the
-  /// vertex at uv (sizes from the boundary, Options::boundary_gradation), recovered
-  /// from the metric it reports for the vertex (Result::mesh.vertex_metric) as the ratio
-  /// of the traces in mesher2d's frame, the scaling being isotropic; at least 1.
-  /// To be replaced by the scale mesher2d returns.
-  double boundary_scale(const geom::Vec2& uv, const m2d::Metric2& placed_for) const;
-
-  /// The 3D metric at uv, scaled as mesher2d scaled it there (boundary_scale): what the
+  /// The 3D metric at uv, scaled as mesher2d scaled it there (m2d::Mesh::boundary_scale): what the
   /// face's unit edges are measured in.
   param::Metric3 metric3(const geom::Vec2& uv, double scale) const {
     return field_.metric3(uv.x, uv.y) * scale;

@@ -10,16 +10,15 @@
 #include <unordered_map>
 
 #include "internal.h"
+#include "uvmesh/mesher2d/measures.h"
 
 namespace uvmesh::surface::detail {
 
 double q3(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c) {
-  // 1/Q_K = rho / (alpha h_max), rho = 2A / perimeter, alpha = sqrt(3)/6.
   const double la = glm::length(b - c), lb = glm::length(c - a), lc = glm::length(a - b);
   const double area2 = glm::length(glm::cross(b - a, c - a));
-  const double hmax = std::max({la, lb, lc}), per = la + lb + lc;
-  if (!(hmax > 0) || !(per > 0)) return 0.0;
-  return (area2 / per) / (std::sqrt(3.0) / 6.0 * hmax);
+  if (!(std::max({la, lb, lc}) > 0)) return 0.0;
+  return measures::shape_q(la, lb, lc, area2);
 }
 
 namespace {

@@ -83,3 +83,17 @@ TEST_CASE("measures: unit edges are [1/sqrt2, sqrt2], both ends included", "[mea
   CHECK(u.edges == 8);
   CHECK(u.unit == 4);
 }
+
+TEST_CASE("measures: the two-end edge length is exact for a geometric size variation",
+          "[measures]") {
+  // Size h(s) = h0 r^s along an edge of length 1 in its own arc length s: the metric
+  // length is the integral of 1 / h(s), (1/h0)(1 - 1/r) / ln r, and the two end lengths
+  // are 1/h0 and 1/(h0 r).
+  const double h0 = 0.5, r = 3.0;
+  const double exact = (1 / h0) * (1 - 1 / r) / std::log(r);
+  CHECK(ms::edge_length(1 / h0, 1 / (h0 * r)) == Approx(exact).epsilon(1e-14));
+  CHECK(ms::edge_length(1 / (h0 * r), 1 / h0) == Approx(exact).epsilon(1e-14));
+  // Equal ends: the common length; one end zero: the mean.
+  CHECK(ms::edge_length(0.9, 0.9) == 0.9);
+  CHECK(ms::edge_length(0.0, 2.0) == 1.0);
+}

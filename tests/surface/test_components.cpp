@@ -1,6 +1,7 @@
 // Unit tests of the surface stage's components on analytic surfaces (no OpenCASCADE):
 // the edge discretizer (stage 1), the boundary caps (gradation and proximity along the
-// boundary), the 3D improvement (stage 2b), and the whole pipeline on a plane, a cylinder
+// boundary), the face metric (the (u,v) grid, v scaling and frame), the 3D improvement
+// (stage 2b), and the whole pipeline on a plane, a cylinder
 // with a seam, a sphere with poles, a torus and a cone with an apex.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "analytic_models.h"
+#include "face_metric.h"
 #include "internal.h"
 #include "uvmesh/mesher2d/measures.h"
 #include "uvmesh/param/size_field.h"
@@ -233,4 +235,73 @@ TEST_CASE("surface pipeline: every analytic model meshes on its surface, closed 
     const surface::QualityReport q = surface::measure_quality(r.mesh);
     CHECK(q.share_Q_lt_1_5 >= 0.95);
   }
+}
+
+// ---- the face metric (surface/src/face_metric.h) -----------------------------------------
+
+namespace {
+// The exact (u,v) metric the face metric caches, in mesher2d's frame (v scaled by k:
+// M' = S^-T M S^-1 with S = diag(1, k)).
+uvmesh::m2d::Metric2 exact_in_mesher_frame(const param::FaceSizeField& field, double u, double v,
+                                           double k) {
+  const param::Metric2 m = field.metric_uv(u, v);
+  return {m(0, 0), m(0, 1) / k, m(1, 1) / (k * k)};
+}
+}  // namespace
+
+TEST_CASE("face metric: a cylinder band is scaled to isotropic, and the metric follows J^T M3 J",
+          "[surface][face_metric]") {
+  // Uniform size h on a cylinder of radius r: M_uv = diag(r^2, 1) / h^2, so v is scaled by
+  // 1/r and mesher2d sees the isotropic metric I r^2 / h^2.
+  const double r = 0.2, h = 0.05;
+  const geom::Model m = am::cylinder_side(r, 2);
+  const param::SizeSpec spec = uniform(h);
+  const param::FaceSizeField field(*m.faces[0].surface, m.faces[0].uv_box, spec, 0);
+  surface::detail::FaceMetric fm(field, m.faces[0], /*has_pole=*/false);
+  CHECK(fm.vscale() == Approx(1 / r).epsilon(1e-6));
+  const uvmesh::m2d::SizeSpec ms = fm.mesher_size();
+  REQUIRE(ms.kind == uvmesh::m2d::SizeSpec::Kind::Metric);
+  for (double u : {0.1, 1.7, 4.0, 6.2})
+    for (double v : {0.05, 0.9, 1.95}) {
+      const uvmesh::m2d::Vec2 p = fm.to_mesher({u, v});
+      const geom::Vec2 back = fm.from_mesher(p);
+      CHECK(back.x == Approx(u).epsilon(1e-15));
+      CHECK(back.y == Approx(v).epsilon(1e-15));
+      const uvmesh::m2d::Metric2 got = ms.metric(p.x, p.y);
+      const uvmesh::m2d::Metric2 want = exact_in_mesher_frame(field, u, v, fm.vscale());
+      CHECK(got.m11 == Approx(r * r / (h * h)).epsilon(1e-3));
+      CHECK(got.m22 == Approx(r * r / (h * h)).epsilon(1e-3));
+      CHECK(std::abs(got.m12) <= 1e-6 * got.m11);
+      CHECK(got.m11 == Approx(want.m11).epsilon(1e-3));
+      CHECK(got.m22 == Approx(want.m22).epsilon(1e-3));
+    }
+  // The 3D metric a vertex is measured in: the field's, times mesher2d's boundary scale.
+  const param::Metric3 a = fm.metric3({1.0, 1.0}, 1.0), b = fm.metric3({1.0, 1.0}, 4.0);
+  const geom::Vec3 e{0.01, 0.02, 0.03};
+  CHECK(b.length(e) == Approx(2 * a.length(e)).epsilon(1e-12));
+}
+
+TEST_CASE("face metric: a torus's grid follows the exact induced metric; poles are not scaled",
+          "[surface][face_metric]") {
+  const geom::Model t = am::torus(2, 0.5);
+  param::SizeSpec spec = uniform(0.3);
+  spec.angle_tol = am::kPi / 10;  // curvature sizes: the metric varies over the face
+  const param::FaceSizeField field(*t.faces[0].surface, t.faces[0].uv_box, spec, 0);
+  surface::detail::FaceMetric fm(field, t.faces[0], false);
+  const uvmesh::m2d::SizeSpec ms = fm.mesher_size();
+  for (double u = 0.05; u < 2 * am::kPi; u += 0.77)
+    for (double v = 0.05; v < 2 * am::kPi; v += 0.61) {
+      INFO("u " << u << " v " << v);
+      const uvmesh::m2d::Vec2 p = fm.to_mesher({u, v});
+      const uvmesh::m2d::Metric2 got = ms.metric(p.x, p.y);
+      const uvmesh::m2d::Metric2 want = exact_in_mesher_frame(field, u, v, fm.vscale());
+      // The grid interpolates between exact nodes, refined where it is off (kTol).
+      CHECK(got.m11 == Approx(want.m11).epsilon(0.1));
+      CHECK(got.m22 == Approx(want.m22).epsilon(0.1));
+    }
+  // A face with a pole keeps its (u,v) frame.
+  const geom::Model s = am::sphere(1);
+  const param::FaceSizeField sf(*s.faces[0].surface, s.faces[0].uv_box, uniform(0.2), 0);
+  surface::detail::FaceMetric sm(sf, s.faces[0], /*has_pole=*/true);
+  CHECK(sm.vscale() == 1.0);
 }

@@ -27,6 +27,13 @@
 
 namespace uvmesh::io {
 
+/// What the report's metric_edge_lengths measures against: the size field of the meshing
+/// size (surface::MeshResult::size, the user's sizes with the chordal safety applied) at
+/// the mesh's vertices, without the sizes the boundary imposed (compare
+/// surface::kFaceMetricName).
+inline constexpr const char* kSizeFieldMetricName =
+    "size field: the meshing size's field at the vertices, without boundary sizes";
+
 struct CheckOptions {
   int threads = 0;  ///< 0 = all cores (self-intersections, chordal)
   bool self_intersections = true;

@@ -45,6 +45,16 @@ inline double edge_length(double l_a, double l_mid, double l_b) {
   return (l_a + 4 * l_mid + l_b) / 6;
 }
 
+/// The same from the two ends only, when the metric is not known between them: the
+/// logarithmic mean of the two lengths, exact when the size varies geometrically along
+/// the edge (as a gradated size does, eq. 7.11); their mean when they are within 0.1% of
+/// each other (or one is 0), where the two agree and the logarithm would cancel.
+inline double edge_length(double l_a, double l_b) {
+  const double ratio = l_a > 0 ? l_b / l_a : 1.0;
+  return (std::abs(ratio - 1) < 1e-3 || !(ratio > 0)) ? 0.5 * (l_a + l_b)
+                                                      : (l_b - l_a) / std::log(ratio);
+}
+
 /// The unit mesh of §7.5.2: an edge is unit when its metric length is in
 /// [1/sqrt(2), sqrt(2)].
 inline constexpr double kUnitMin = 0.7071067811865476;  // 1/sqrt(2), correctly rounded

@@ -136,8 +136,17 @@ struct MeshResult {
   std::vector<FaceFailure> collapsed;
   bool ok() const { return failed.empty(); }
   /// Share of unit edges over all faces (FaceStats::unit_edges / edges).
+  /// Measured in each face's meshing metric (kFaceMetricName).
   double unit_edge_share() const;
 };
+
+/// What MeshResult::unit_edge_share() and FaceStats' edge counts measure against: the
+/// metric each face was meshed for, i.e. the size field of MeshResult::size on the face
+/// times the boundary scale mesher2d applied there (m2d::Mesh::boundary_scale: sizes
+/// imposed by the face's boundary discretization). The report's metric_edge_lengths
+/// measures against the size field alone (io::kSizeFieldMetricName).
+inline constexpr const char* kFaceMetricName =
+    "face meshing metric: size field of the meshing size times mesher2d's boundary scale";
 
 MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt);
 
