@@ -93,7 +93,7 @@ GRADE = {
     "q_min": "q_min",                            # q = 4*sqrt3*A/(a^2+b^2+c^2)
     "q_p01": "q_p01",
     "q_median": "q_median",
-    "Q_max": "Q_max",                            # Q_K = alpha*h_max/rho (DESIGN.md)
+    "Q_max": "Q_max",                            # Q_K = alpha*h_max/rho (docs/ARCHITECTURE.md)
     "pct_Q_lt2": "pct_Q_lt2",
     "min_angle": "min_angle_deg",
     "free_edges": "free_edges",
@@ -478,7 +478,7 @@ def bench_markdown(results, ctx, seconds):
              "(Frontal-Delaunay / Delaunay, h = D/40, 12 elements per 2π, one thread; wall = whole gmsh "
              "process). A timeout is a failure counted at %g s." % (ctx["gmsh_timeout"], ctx["gmsh_timeout"]))
     L.append("- Every mesh is graded by the same grader, `grade_mesh.py` (q = 4√3·A/Σa², 1 = equilateral; "
-             "Q = α·h_max/ρ, DESIGN.md's Q_K; free / non-manifold edges on the stored indices; near = vertices "
+             "Q = α·h_max/ρ, Q_K of docs/ARCHITECTURE.md; free / non-manifold edges on the stored indices; near = vertices "
              "closer than 1e-8·D, which TetGen rejects; TetGen = `tetgen -pY` fills the surface).")
     L.append("- gmsh/uvmesh = gmsh wall ÷ uvmesh wall (> 1: uvmesh faster).")
     L.append("")

@@ -10,7 +10,7 @@
 # within the time limit and mesh within 6 times it instead (occt_bearing_axis is 18 solids
 # fused into 180 k triangles, ~5 s of CPU: at 10 s it failed on a loaded 2-core machine);
 # a face that cannot be meshed is reported by id and exits 3, with the rest of the mesh
-# written, as DESIGN.md asks.
+# written (docs/ARCHITECTURE.md, Contracts).
 #
 # usage: bad_inputs.sh UVMESH UVMESH2D BAD_DIR
 set -uo pipefail

@@ -12,7 +12,8 @@
 // model entity of the lowest dimension containing it -- a model vertex (dim 0), the
 // interior of a model edge (dim 1) or the interior of a face (dim 2). Edge nodes are
 // owned by the model edge, so two faces sharing an edge share its nodes by index
-// (DESIGN.md: conformity by construction, never by a merge tolerance).
+// (docs/ARCHITECTURE.md, Contracts: conformity by construction, never by a merge
+// tolerance).
 //
 // Ordering (deterministic, independent of the thread count): model-vertex nodes in
 // vertex id order, then edge-interior nodes edge by edge in curve-parameter order, then
