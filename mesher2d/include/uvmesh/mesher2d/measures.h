@@ -22,13 +22,13 @@ inline constexpr double kShapeAlpha = 0.28867513459481287;
 /// (rho_K = 2 area / perimeter): 1 for the equilateral, growing without bound as the
 /// triangle flattens. area2 must be > 0.
 inline double shape_Q(double ab, double bc, double ca, double area2) {
-  return kShapeAlpha * std::max({ab, bc, ca}) * (ab + bc + ca) / area2;
+  return kShapeAlpha * (ab + bc + ca) * std::max({ab, bc, ca}) / area2;
 }
 
 /// q_K = 1 / Q_K in (0, 1] (eq. 7.6), computed directly (no division by a possibly huge
 /// Q): 1 for the equilateral, 0 for a flat triangle. area2 may be 0 (gives 0).
 inline double shape_q(double ab, double bc, double ca, double area2) {
-  return area2 / ((ab + bc + ca) * std::max({ab, bc, ca}) * kShapeAlpha);
+  return area2 / (kShapeAlpha * (ab + bc + ca) * std::max({ab, bc, ca}));
 }
 
 /// Length of the vector (dx, dy) in the 2D metric [[m11 m12][m12 m22]]: sqrt(d^T M d)
@@ -57,8 +57,11 @@ inline double edge_length(double l_a, double l_b) {
 
 /// The unit mesh of §7.5.2: an edge is unit when its metric length is in
 /// [1/sqrt(2), sqrt(2)].
-inline constexpr double kUnitMin = 0.7071067811865476;  // 1/sqrt(2), correctly rounded
-inline constexpr double kUnitMax = 1.4142135623730951;  // sqrt(2), correctly rounded
+/// sqrt(2) correctly rounded, and 1/sqrt(2) as 1 / kUnitMax rounded (one unit in the last
+/// place below sqrt(0.5) correctly rounded; the mesher's decisions are made against this
+/// value).
+inline constexpr double kUnitMax = 1.4142135623730951;
+inline constexpr double kUnitMin = 1 / kUnitMax;
 inline bool is_unit(double L) {
   return L >= kUnitMin && L <= kUnitMax;
 }
