@@ -187,6 +187,7 @@ void count_unit_edges(const LocalMesh& lm, std::size_t nvf, const FaceMetric& me
   // narrow face joins two boundary nodes and has two triangles (counted twice before,
   // which weighed a strip of chords double).
   const EdgeUses uses(lm);
+  measures::UnitEdges u;
   for (const auto& t : lm.tris)
     for (int i = 0; i < 3; ++i) {
       const int a = t[i], b = t[(i + 1) % 3];
@@ -195,15 +196,12 @@ void count_unit_edges(const LocalMesh& lm, std::size_t nvf, const FaceMetric& me
         if (hi - lo > 1) continue;
       }
       const geom::Vec3 d = lm.p[b] - lm.p[a];
-      const double L = measures::edge_length(metric_at(a).length(d), metric_at(b).length(d));
-      ++stats.edges;
-      if (L < measures::kUnitMin)
-        ++stats.short_edges;
-      else if (L > measures::kUnitMax)
-        ++stats.long_edges;
-      else
-        ++stats.unit_edges;
+      u.add(measures::edge_length(metric_at(a).length(d), metric_at(b).length(d)));
     }
+  stats.edges += u.edges;
+  stats.unit_edges += u.unit;
+  stats.short_edges += u.short_edges;
+  stats.long_edges += u.long_edges;
 }
 
 // ---- the face's contribution: interior points renumbered -(k+1) in local order.
