@@ -35,6 +35,12 @@ param::SizeSpec meshing_size(const MeshOptions& opt) {
   return spec;
 }
 
+double feature_size(const MeshOptions& opt, double diagonal) {
+  if (opt.keep_topology) return 0.0;
+  if (opt.min_feature > 0) return opt.min_feature;
+  return opt.size.hmin > 0 ? opt.size.hmin : 1e-3 * diagonal;
+}
+
 double MeshResult::unit_edge_share() const {
   std::int64_t e = 0, u = 0;
   for (const FaceStats& f : faces) e += f.edges, u += f.unit_edges;

@@ -51,6 +51,16 @@ struct MeshOptions {
   /// Wall-clock seconds the 2D mesher may spend on one face (0: no limit). A face that
   /// exceeds it fails with that reason, like any other failed face, and the run goes on.
   double face_time_limit = 120.0;
+  /// Feature size L (`--min-feature`; 0: feature_size() derives it). Model entities smaller
+  /// than L -- edges shorter, faces narrower, two parts of a face's boundary closer -- are
+  /// CAD artefacts at the user's scale: they set no size below L and are absorbed into
+  /// their neighbours (MeshResult::simplified lists each absorption).
+  double min_feature = 0.0;
+  /// Dihedral angle (radians) below which a model edge is smooth: the faces on either
+  /// side may be meshed as one domain, so mesh edges need not follow it.
+  double feature_angle = 20.0 * 3.14159265358979323846 / 180.0;
+  /// Every model entity stays a mesh entity (the meshes of before feature sizes).
+  bool keep_topology = false;
   /// Called after each face, from the worker thread that meshed it (so it must be
   /// thread-safe): faces done so far, total faces.
   std::function<void(int, int)> progress;
@@ -87,6 +97,10 @@ double gap_tolerance(const geom::Model& m, geom::Id edge);
 /// kGapToleranceFactor * gap_tolerance(e) for every edge e: measure_quality's edge_gap.
 std::vector<double> edge_gap_floors(const geom::Model& m);
 
+/// The feature size L of a run: opt.min_feature, else the smallest size hmin (D/1000
+/// when unset, as default_size()); 0 under keep_topology.
+double feature_size(const MeshOptions& opt, double diagonal);
+
 struct FaceFailure {
   geom::Id face = geom::kNone;
   std::string reason;
@@ -103,6 +117,15 @@ struct FaceStats {
   /// [1/sqrt2, sqrt2], shorter, longer -- measured in this face's metric (edges on the
   /// face's boundary are counted by each face around them).
   std::int64_t edges = 0, unit_edges = 0, short_edges = 0, long_edges = 0;
+};
+
+/// One absorption of a model entity smaller than the feature size, or one smooth model
+/// edge the mesh no longer follows: what, which entities, how large, and why.
+struct Simplification {
+  std::string what;  ///< e.g. "edge collapsed to a vertex", "face absorbed", "edge dissolved"
+  std::vector<geom::Id> vertices, edges, faces;
+  double size = 0;  ///< the entity's length or width
+  std::string why;
 };
 
 struct Stage {
@@ -134,6 +157,9 @@ struct MeshResult {
   /// triangles could only have been slivers. Not failures; the reason gives the edges,
   /// the width and the floor.
   std::vector<FaceFailure> collapsed;
+  /// Entities absorbed because they are smaller than the feature size, and smooth edges
+  /// dissolved (MeshOptions::min_feature, feature_angle), in the order they were made.
+  std::vector<Simplification> simplified;
   bool ok() const { return failed.empty(); }
   /// Share of unit edges over all faces (FaceStats::unit_edges / edges).
   /// Measured in each face's meshing metric (kFaceMetricName).
