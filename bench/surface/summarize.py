@@ -58,7 +58,11 @@ REPORT = {
     "bad_away": "quality.bad_away_from_corners",     # Q >= 3, touching no model vertex
     "bad_at_corners": "quality.bad_at_corners",      # Q >= 3, touching a model vertex (exception)
     "bad_narrow_gaps": "quality.bad_in_narrow_gaps",  # Q >= 3 across a face narrower than the
-                                                      # proximity floor hmin/100 (exception)
+                                                      # proximity floor (no exception any more)
+    "bad_acute": "quality.bad_at_acute_corners",     # of bad_at_corners: CAD corner < 20 degrees
+                                                      # (the only exception)
+    "Q_over_10": "quality.Q_over_10",                # triangles with Q > 10 anywhere
+    "simplified": "counts.simplified",               # entities absorbed under the feature size
     "unit_edge_share": "unit_edge_share",        # share of unit edges (metric length in [1/sqrt2, sqrt2])
     "chordal_max": "chordal.max",
     "chordal_tolerance": "chordal.tolerance",    # 0 when no chordal bound was asked for
@@ -849,6 +853,12 @@ def judge_variant(ctx, model, info, vname, extra):
     need("share_Q_lt_1_5", lambda v: v >= THRESHOLDS["share_Q_lt_1_5_min"],
          "share Q<1.5 %%.3f < %g" % THRESHOLDS["share_Q_lt_1_5_min"])
     need("bad_away", lambda v: v == 0, "%s triangles with Q >= 3 touching no model vertex")
+    need("Q_over_10", lambda v: v == 0, "%s triangles with Q > 10")
+    corners, acute, gaps = (get(rep, k, REPORT) for k in ("bad_at_corners", "bad_acute", "bad_narrow_gaps"))
+    if None not in (corners, acute) and corners - acute > 0:
+        why.append("%d triangles with Q >= 3 at CAD corners of 20 degrees or more" % (corners - acute))
+    if gaps:
+        why.append("%d triangles with Q >= 3 across narrow gaps" % gaps)
     # Every output file: present, read by meshio and gmsh with the report's triangle count.
     for o, n in expected.items():
         if not os.path.isfile(o):

@@ -274,7 +274,8 @@ void measure_shape(CheckData& d, const SurfaceMesh& m, const geom::Model* model,
   std::vector<double> edge_gap;
   if (model) {
     const double D = model->bbox.diagonal();
-    narrow_gap = surface::proximity_floor(opt.size ? *opt.size : surface::default_size(*model), D);
+    narrow_gap =
+        surface::proximity_floor(opt.size ? *opt.size : surface::default_size(*model), D, 0.0);
     edge_gap = surface::edge_gap_floors(*model);
   }
   d.quality = surface::measure_quality(m, opt.max_list, narrow_gap, model ? &edge_gap : nullptr);
@@ -389,6 +390,9 @@ nlohmann::json report_json(const CheckData& d) {
                   {"min_angle_deg", q.min_angle_deg},
                   {"max_angle_deg", q.max_angle_deg},
                   {"bad_at_corners", q.bad_at_corners},
+                  {"bad_at_acute_corners", q.bad_at_acute_corners},
+                  {"smallest_bad_corner_deg", q.smallest_corner_deg},
+                  {"Q_over_10", q.Q_over_10},
                   {"bad_away_from_corners", q.bad_away_from_corners},
                   {"bad_in_narrow_gaps", q.bad_in_narrow_gaps},
                   {"widest_narrow_gap", q.widest_narrow_gap}};

@@ -136,7 +136,11 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
       "mesh a CAD model into one conforming surface mesh.\n"
       "Defaults (D = bounding-box diagonal): --hmax D/20, --hmin D/1000, --angle 18 (20 elements\n"
       "per 2 pi), --chordal D/1000, --grad 1.3, isotropic sizes. Giving --angle or --chordal\n"
-      "replaces both curvature defaults (the other is then off unless also given).");
+      "replaces both curvature defaults (the other is then off unless also given).\n"
+      "Feature size (--min-feature, default hmin): model edges shorter, faces narrower and gaps\n"
+      "narrower than it set no size and are absorbed into their neighbours; model edges where\n"
+      "the faces meet at less than --feature-angle (default 20) may be crossed by mesh edges.\n"
+      "--keep-topology keeps every CAD entity in the mesh. --report lists each absorption.");
   add_read_flags(c, f.read);
   c->add_option("-o,--output", f.out,
                 "output mesh; the extension picks the format (" + io::known_mesh_extensions() + ")")
@@ -149,6 +153,14 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
       ->check(finite_positive());
   c->add_option("--angle", f.angle_deg, "each element spans at most DEG degrees of curvature arc")
       ->check(CLI::Range(0.1, 180.0));
+  c->add_option("--min-feature", f.min_feature,
+                "feature size: smaller CAD entities are absorbed (default: hmin)")
+      ->check(finite_positive());
+  c->add_option("--feature-angle", f.feature_angle_deg,
+                "dihedral angle in degrees below which a CAD edge is smooth (default 20)")
+      ->check(CLI::Range(0.0, 180.0));
+  c->add_flag("--keep-topology", f.keep_topology,
+              "every CAD edge and face stays in the mesh; nothing is absorbed");
   c->add_option("--grad", f.grad, "gradation: neighbouring sizes differ by at most this ratio")
       ->check(CLI::Range(1.0, 100.0));
   c->add_flag("--iso", f.iso, "isotropic curvature sizes (the default)");
@@ -225,6 +237,9 @@ int size_options(const MeshFlags& f, const geom::Model& model, surface::MeshOpti
     o.size.angle_tol = f.angle_deg * std::numbers::pi / 180.0;
   }
   if (f.grad > 0) o.size.gradation = f.grad;
+  if (f.min_feature > 0) o.min_feature = f.min_feature;
+  if (f.feature_angle_deg > 0) o.feature_angle = f.feature_angle_deg * std::numbers::pi / 180.0;
+  o.keep_topology = f.keep_topology;
   if (f.aniso > 0 && !f.iso) {
     o.size.isotropic = false;
     o.size.max_anisotropy = f.aniso;
@@ -289,10 +304,15 @@ int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::Me
   j["output"] = f.out;
   j["units"] = model.units;
   j["bbox_diagonal"] = D;
-  j["size"] = {
-      {"hmax", o.size.hmax},           {"hmin", o.size.hmin},
-      {"chordal", o.size.chordal_tol}, {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
-      {"gradation", o.size.gradation}, {"isotropic", o.size.isotropic}};
+  j["size"] = {{"hmax", o.size.hmax},
+               {"hmin", o.size.hmin},
+               {"chordal", o.size.chordal_tol},
+               {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
+               {"gradation", o.size.gradation},
+               {"isotropic", o.size.isotropic},
+               {"min_feature", surface::feature_size(o, D)},
+               {"feature_angle_deg", o.feature_angle * 180.0 / std::numbers::pi},
+               {"keep_topology", o.keep_topology}};
   j["counts"]["faces"] = model.faces.size();
   j["counts"]["edges"] = model.edges.size();
   j["counts"]["faces_failed"] = r.failed.size();
@@ -318,6 +338,16 @@ int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::Me
   nlohmann::json cl = nlohmann::json::array();
   for (const auto& c : r.collapsed) cl.push_back({{"face", c.face}, {"reason", c.reason}});
   j["collapsed_faces"] = cl;
+  nlohmann::json simp = nlohmann::json::array();
+  for (const auto& s : r.simplified)
+    simp.push_back({{"what", s.what},
+                    {"vertices", s.vertices},
+                    {"edges", s.edges},
+                    {"faces", s.faces},
+                    {"size", s.size},
+                    {"why", s.why}});
+  j["simplified"] = simp;
+  j["counts"]["simplified"] = r.simplified.size();
   j["counts"]["faces_collapsed"] = r.collapsed.size();
   // What reading and healing did to the file (uvmesh info shows the same): a refused
   // step (an assembly left non-conforming) changes what the mesh can be.

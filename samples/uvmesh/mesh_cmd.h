@@ -24,6 +24,9 @@ struct MeshFlags {
   bool allow_holes = false;
   bool no_optimize3d = false;
   bool no_selfint = false;
+  double min_feature = 0;        ///< --min-feature; 0: hmin
+  double feature_angle_deg = 0;  ///< --feature-angle; 0: MeshOptions' default
+  bool keep_topology = false;
   std::vector<std::string> face_size, edge_size;  ///< "ID=H"
   std::string size_file;
   bool quiet = false;

@@ -45,7 +45,8 @@ std::vector<double> edge_gap_floors(const geom::Model& m) {
   return g;
 }
 
-double proximity_floor(const param::SizeSpec& spec, double diagonal) {
+double proximity_floor(const param::SizeSpec& spec, double diagonal, double feature) {
+  if (feature > 0) return feature;
   return 0.01 * (spec.hmin > 0 ? spec.hmin : 1e-3 * diagonal);
 }
 
@@ -54,15 +55,16 @@ double proximity_floor(const param::SizeSpec& spec, double diagonal) {
 namespace uvmesh::surface::detail {
 
 BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t,
-                           const param::SizeSpec& spec)
+                           const param::SizeSpec& spec, double feature)
     : poly_(m.edges.size()) {
   beta_ = std::max(1.0, spec.gradation);
   const double D = std::max(m.bbox.diagonal(), 1e-300);
-  // hmin bounds the curvature and gradation sizes; a face narrower than hmin (a chamfer
-  // band of a micrometre on a millimetre part) still gets elements about as wide as it,
-  // down to hmin / 100: larger ones could only be slivers across it.
+  // hmin bounds the curvature and gradation sizes. A face narrower than hmin (a chamfer
+  // band of a micrometre on a millimetre part) gets elements down to the feature size,
+  // no smaller: below it the entity is the CAD system's artefact, not the user's shape,
+  // and the simplify stage absorbs it (with keep_topology, down to hmin / 100).
   floor_ = spec.hmin > 0 ? spec.hmin : 1e-3 * D;
-  prox_floor_ = proximity_floor(spec, D);
+  prox_floor_ = proximity_floor(spec, D, feature);
   eps_ = 1e-12 * D;
   for (std::size_t e = 0; e < m.edges.size(); ++e) {
     const geom::Edge& ed = m.edges[e];

@@ -34,6 +34,43 @@ double triangle_Q(const Vec3& a, const Vec3& b, const Vec3& c) {
   return measures::shape_Q(ab, bc, ca, area2);
 }
 
+namespace {
+
+// Corner angle of each face at each model vertex its triangles touch: the sum of the
+// triangles' angles there (a fan of the face around the vertex spans the CAD corner).
+// Keyed by (node, face), sorted.
+std::map<std::pair<NodeId, geom::Id>, double> corner_angles(const SurfaceMesh& m,
+                                                            const std::vector<double>& Q) {
+  std::map<std::pair<NodeId, geom::Id>, double> a;
+  if (m.point_dim.empty()) return a;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    if (Q[t] < 0) continue;
+    const pred3::Tri c = corners(m, t);
+    for (int k = 0; k < 3; ++k) {
+      const NodeId i = m.triangles[t][k];
+      if (m.point_dim[i] != 0) continue;
+      const Vec3 e1 = c[(k + 1) % 3] - c[k], e2 = c[(k + 2) % 3] - c[k];
+      a[{i, face_of(m, t)}] +=
+          std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2)) * 180.0 / kPi;
+    }
+  }
+  return a;
+}
+
+// The smallest corner angle of triangle t's face at the model vertices it touches
+// (360 when it touches none).
+double corner_angle_of(const SurfaceMesh& m, std::size_t t,
+                       const std::map<std::pair<NodeId, geom::Id>, double>& angles) {
+  double best = 360.0;
+  for (NodeId i : m.triangles[t])
+    if (m.point_dim[i] == 0)
+      if (auto it = angles.find({i, face_of(m, t)}); it != angles.end())
+        best = std::min(best, it->second);
+  return best;
+}
+
+}  // namespace
+
 QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_gap,
                               const std::vector<double>* edge_gap) {
   QualityReport r;
@@ -59,6 +96,7 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_
   r.min_angle_deg = 180.0;
   r.max_angle_deg = 0.0;
   std::vector<BadTriangle> bad;
+  const auto angles = corner_angles(m, Q);
   for (std::size_t t = 0; t < nt; ++t) {
     if (Q[t] < 0) continue;
     const double q = Q[t];
@@ -70,6 +108,7 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_
     n3 += q < 3.0;
     r.min_angle_deg = std::min(r.min_angle_deg, amin[t]);
     r.max_angle_deg = std::max(r.max_angle_deg, amax[t]);
+    r.Q_over_10 += q > 10.0;
     if (q >= 3.0) {
       bool corner = false;
       if (!m.point_dim.empty())
@@ -108,6 +147,9 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_
       }
       if (corner) {
         ++r.bad_at_corners;
+        const double angle = corner_angle_of(m, t, angles);
+        r.smallest_corner_deg = std::min(r.smallest_corner_deg, angle);
+        r.bad_at_acute_corners += angle < kAcuteCornerDeg;
       } else if (gap) {
         ++r.bad_in_narrow_gaps;
         r.widest_narrow_gap = std::max(r.widest_narrow_gap, width);

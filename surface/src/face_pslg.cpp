@@ -186,7 +186,8 @@ bool face_has_pole(const geom::Model& m, const geom::Face& f) {
 }
 
 bool build_face_pslg(const FaceInput& job, FacePslg& pslg, std::string& error) {
-  const double seg_floor = proximity_floor(job.opt.size, job.m.bbox.diagonal());
+  const double D = job.m.bbox.diagonal();
+  const double seg_floor = proximity_floor(job.opt.size, D, feature_size(job.opt, D));
   for (const geom::Loop& loop : job.f.loops) {
     const auto start = static_cast<m2d::VertId>(pslg.in.points.size());
     for (const geom::EdgeUse& use : loop.uses) {

@@ -76,7 +76,7 @@ struct EdgeNodes {
 class BoundaryCaps {
  public:
   BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t,
-               const param::SizeSpec& spec);
+               const param::SizeSpec& spec, double feature);
   /// Bound of the size at x on edge e (tangent: unit tangent of e at x), at most h.
   double cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent, double h) const;
   /// True when cap(e, ...) reads edge o: o is another edge of a face around e. What it

@@ -32,6 +32,10 @@ param::SizeSpec meshing_size(const MeshOptions& opt) {
   // report measures the deviation against the tolerance the user asked for.
   param::SizeSpec spec = opt.size;
   if (spec.chordal_tol > 0 && opt.chordal_safety > 1) spec.chordal_tol /= opt.chordal_safety;
+  // A feature size above hmin floors the curvature and gradation sizes too: a fillet
+  // narrower than it is an entity to absorb, not a curvature to follow.
+  if (!opt.keep_topology && opt.min_feature > spec.hmin)
+    spec.hmin = std::min(opt.min_feature, spec.hmax);
   return spec;
 }
 
@@ -55,6 +59,7 @@ ModelRun::ModelRun(const geom::Model& model, const MeshOptions& options)
       nf(model.faces.size()),
       ne(model.edges.size()),
       nv(model.vertices.size()),
+      feature(feature_size(options, model.bbox.diagonal() > 0 ? model.bbox.diagonal() : 1.0)),
       arena(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()),
       spec(res.size),
       face_error(nf),

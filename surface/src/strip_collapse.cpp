@@ -68,7 +68,7 @@ struct StripScan {
 
 StripScan scan_faces(const ModelRun& run) {
   StripScan s;
-  s.floor = proximity_floor(run.spec, std::max(run.m.bbox.diagonal(), 1e-300));
+  s.floor = proximity_floor(run.spec, std::max(run.m.bbox.diagonal(), 1e-300), run.feature);
   s.faces_of.resize(run.ne);
   for (std::size_t f = 0; f < run.nf; ++f)
     for (const geom::Loop& l : run.m.faces[f].loops)
@@ -121,9 +121,11 @@ void collapse(ModelRun& run, StripScan& s, std::size_t f, std::size_t ea, std::s
   std::ostringstream os;
   os << "a strip between edges " << pe << " and " << se << " at most " << width
      << " wide, narrower than the proximity floor " << gap_floor
-     << (gap_floor > s.floor ? " (the edges' tolerances)" : " (hmin / 100)") << ": edge " << se
-     << " takes the nodes of edge " << pe << ", faces " << (a_first ? ob : oa) << " and "
-     << (a_first ? oa : ob) << " meet there";
+     << (gap_floor > s.floor ? " (the edges' tolerances)"
+         : run.feature > 0   ? " (the feature size)"
+                             : " (hmin / 100)")
+     << ": edge " << se << " takes the nodes of edge " << pe << ", faces " << (a_first ? ob : oa)
+     << " and " << (a_first ? oa : ob) << " meet there";
   run.res.collapsed.push_back({static_cast<geom::Id>(f), os.str()});
 }
 

@@ -929,3 +929,28 @@ TEST_CASE("check3d: chordal: projection converges below the noise of the squared
       }
   CHECK(n > 100);
 }
+
+TEST_CASE("check3d: quality: a bad triangle is excused only at a corner under 20 degrees",
+          "[check3d][quality]") {
+  // Face 1: a 10-degree wedge at model vertex 0, a fan of two bad triangles (Q about 7).
+  // Face 2: two bad triangles (Q about 6) at a 90-degree corner (model vertex 4).
+  const double a = 10.0 * 3.14159265358979323846 / 180.0;
+  auto m = make_mesh({{0, 0, 0},
+                      {10, 0, 0},
+                      {10 * std::cos(a / 2), 10 * std::sin(a / 2), 0},
+                      {10 * std::cos(a), 10 * std::sin(a), 0},
+                      {20, 0, 0},
+                      {30, 0, 0},
+                      {21, 1, 0},
+                      {20, 10, 0}},
+                     {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}});
+  m.triangle_face = {1, 1, 2, 2};
+  m.point_dim[0] = 0;
+  m.point_dim[4] = 0;
+  const auto r = surface::measure_quality(m);
+  REQUIRE(r.bad_at_corners == 4);
+  CHECK(r.bad_at_acute_corners == 2);
+  CHECK(std::abs(r.smallest_corner_deg - 10.0) < 1e-9);
+  CHECK(r.Q_over_10 == 0);  // Q of about 6 and 7
+  CHECK(r.bad_away_from_corners == 0);
+}

@@ -132,7 +132,7 @@ TEST_CASE("boundary caps: a narrow strip sizes its long edges by its width", "[s
   std::vector<std::vector<double>> t(m.edges.size());
   for (std::size_t e = 0; e < m.edges.size(); ++e) t[e] = disc.discretize(static_cast<geom::Id>(e));
   CHECK(t[0].size() - 1 <= 10);  // without caps: about 4 / h
-  const surface::detail::BoundaryCaps caps(m, t, spec);
+  const surface::detail::BoundaryCaps caps(m, t, spec, 0.0);
   const geom::Vec3 mid{2, 0, 0}, tangent{1, 0, 0};
   const double c = caps.cap(0, mid, tangent, h);
   CHECK(c <= 2 * w);
@@ -141,6 +141,25 @@ TEST_CASE("boundary caps: a narrow strip sizes its long edges by its width", "[s
   const std::vector<double> capped = disc.discretize(0, &caps);
   CHECK(capped.size() - 1 >= static_cast<std::size_t>(4 / (2 * w)));
   for (std::size_t i = 0; i + 1 < capped.size(); ++i) CHECK(capped[i + 1] - capped[i] <= h);
+}
+
+TEST_CASE("boundary caps: a strip narrower than the feature size sets no size",
+          "[surface][caps][feature]") {
+  // The same 4 x 0.02 strip with a feature size of 0.05: the gap is an entity below the
+  // user's scale, absorbed later, so proximity does not refine along it (without a feature
+  // size it does, down to the gap: the case above).
+  const double w = 0.02, h = 0.5, feature = 0.05;
+  const geom::Model m = am::plane_rectangle(4, w);
+  const param::SizeSpec spec = uniform(h);
+  const Fields fields(m, spec);
+  surface::detail::EdgeDiscretizer disc(m, spec, fields.ptr);
+  std::vector<std::vector<double>> t(m.edges.size());
+  for (std::size_t e = 0; e < m.edges.size(); ++e) t[e] = disc.discretize(static_cast<geom::Id>(e));
+  const surface::detail::BoundaryCaps caps(m, t, spec, feature);
+  const geom::Vec3 mid{2, 0, 0}, tangent{1, 0, 0};
+  CHECK(caps.cap(0, mid, tangent, h) >= feature);
+  const std::vector<double> capped = disc.discretize(0, &caps);
+  CHECK(capped.size() - 1 <= 10);
 }
 
 TEST_CASE("boundary caps: sizes grade away from a small edge at the gradation rate",
@@ -155,7 +174,7 @@ TEST_CASE("boundary caps: sizes grade away from a small edge at the gradation ra
   surface::detail::EdgeDiscretizer disc(m, spec, fields.ptr);
   std::vector<std::vector<double>> t(m.edges.size());
   for (std::size_t e = 0; e < m.edges.size(); ++e) t[e] = disc.discretize(static_cast<geom::Id>(e));
-  const surface::detail::BoundaryCaps caps(m, t, spec);
+  const surface::detail::BoundaryCaps caps(m, t, spec, 0.0);
   for (double d : {0.05, 0.2, 0.5, 1.0}) {
     INFO("distance " << d);
     const double c = caps.cap(0, {d, 0, 0}, {1, 0, 0}, h);

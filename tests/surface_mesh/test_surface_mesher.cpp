@@ -75,7 +75,7 @@ void accept(const std::string& file, bool closed, const surface::MeshOptions* op
   // (QualityReport::bad_in_narrow_gaps), as uvmesh mesh --report counts.
   const std::vector<double> edge_gap = surface::edge_gap_floors(m);
   const surface::QualityReport q = surface::measure_quality(
-      r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+      r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal(), 0.0), &edge_gap);
   CHECK(q.share_Q_lt_1_5 >= 0.95);
   for (const auto& b : q.bad_list)
     UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
@@ -311,7 +311,7 @@ TEST_CASE(
   REQUIRE(r.failed.empty());
   const std::vector<double> edge_gap = surface::edge_gap_floors(m);
   const surface::QualityReport q = surface::measure_quality(
-      r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+      r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal(), 0.0), &edge_gap);
   for (const auto& b : q.bad_list)
     UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
   CHECK(q.bad_away_from_corners == 0);
@@ -461,7 +461,7 @@ TEST_CASE(
     check_solids_closed(r.mesh, m, 5);
     const std::vector<double> edge_gap = surface::edge_gap_floors(m);
     const surface::QualityReport q = surface::measure_quality(
-        r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+        r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal(), 0.0), &edge_gap);
     CHECK(q.bad_away_from_corners == 0);
     if (o.size.chordal_tol > 0)
       CHECK(surface::measure_chordal(r.mesh, m, 1).max <= o.size.chordal_tol);
@@ -549,7 +549,7 @@ TEST_CASE(
     const surface::MeshResult r = surface::mesh_model(m, o);
     CHECK(r.failed.empty());
     const surface::QualityReport q = surface::measure_quality(
-        r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal()), &edge_gap);
+        r.mesh, 5, surface::proximity_floor(o.size, m.bbox.diagonal(), 0.0), &edge_gap);
     for (const auto& b : q.bad_list)
       UNSCOPED_INFO("Q " << b.Q << " triangle " << b.triangle << " face " << b.face);
     CHECK(q.bad_away_from_corners == 0);

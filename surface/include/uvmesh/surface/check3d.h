@@ -190,9 +190,22 @@ struct QualityReport {
   /// The widest of those gaps (largest width of a triangle counted there; 0 if none), so
   /// that a reader sees how much the exception excuses.
   double widest_narrow_gap = 0.0;
+  /// Of bad_at_corners, those at a model vertex where the CAD face they lie on has a
+  /// corner angle below kAcuteCornerDeg (the sum of the angles at that vertex of the face's
+  /// triangles around it): no triangle there can be well shaped, whatever the sizes.
+  /// The only exemption of the acceptance. smallest_corner_deg: the smallest corner angle
+  /// at any bad triangle of bad_at_corners, so a reader sees what the exemption excuses.
+  std::size_t bad_at_acute_corners = 0;
+  double smallest_corner_deg = 360.0;
+  /// Triangles with Q > 10 anywhere (slivers a volume mesher or a solver cannot use).
+  std::size_t Q_over_10 = 0;
   /// The bad triangles away from corners, worst first (ties by id), capped at max_list.
   std::vector<BadTriangle> bad_list;
 };
+
+/// A CAD corner narrower than this (degrees) excuses the bad triangles at it
+/// (QualityReport::bad_at_acute_corners).
+inline constexpr double kAcuteCornerDeg = 20.0;
 
 /// Q of one triangle (inf when its computed area is zero).
 double triangle_Q(const geom::Vec3& a, const geom::Vec3& b, const geom::Vec3& c);

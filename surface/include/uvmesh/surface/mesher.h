@@ -78,10 +78,12 @@ param::SizeSpec default_size(const geom::Model& m);
 param::SizeSpec meshing_size(const MeshOptions& opt);
 
 /// The narrowest gap the sizes resolve: proximity (two edges of a face closer than the
-/// size) refines down to hmin / 100 (hmin = D/1000 when unset), no further. A face
-/// narrower than that -- a CAD sliver, the last micrometres of a tangential contact --
-/// gets elements as long as the floor across a narrower width.
-double proximity_floor(const param::SizeSpec& spec, double diagonal);
+/// size) refines down to the feature size `feature` (feature_size()), no further; with
+/// no feature size (keep_topology: 0) down to hmin / 100 (hmin = D/1000 when unset). A
+/// face narrower than that -- a CAD sliver, the last micrometres of a tangential contact
+/// -- gets elements as long as the floor across a narrower width, and the simplify
+/// stage absorbs them. Boundary segments shorter than it set no size either.
+double proximity_floor(const param::SizeSpec& spec, double diagonal, double feature);
 
 /// How far apart two model edges of a face must be for proximity to see a gap between
 /// them: kGapToleranceFactor (1: the two tolerance tubes touch) times the sum of their
