@@ -4,10 +4,11 @@ SHA-256, so that two builds can be compared byte for byte (a refactoring must no
 meshes). Both option sets of scripts/corpus.sh: (a) defaults, (b) --hmax D/40 --angle 30;
 the subdivision cages at defaults. One thread (output is identical for any count).
 
-    scripts/mesh_identity.py UVMESH OUT.tsv [--jobs N] [--only SUBSTR] [--keep DIR]
+    scripts/mesh_identity.py UVMESH OUT.tsv [--jobs N] [--only SUBSTR] [--keep DIR] [--flags "..."]
     scripts/mesh_identity.py --compare A.tsv B.tsv
 
---compare prints the lines that differ and exits 1 when any does.
+--flags adds uvmesh mesh flags to every run (--keep-topology: the meshes before feature
+sizes). --compare prints the lines that differ and exits 1 when any does.
 """
 import argparse
 import concurrent.futures as cf
@@ -32,7 +33,7 @@ def models(only):
     return out
 
 
-def run_one(exe, sub, path, keep):
+def run_one(exe, sub, path, keep, flags):
     name = os.path.basename(path)
     variants = [("a", [])]
     if sub == "cad":
@@ -79,6 +80,7 @@ def main():
     ap.add_argument("--only", default="")
     ap.add_argument("--keep", default="")
     ap.add_argument("--compare", nargs=2)
+    ap.add_argument("--flags", default="", help="more uvmesh mesh flags for every run, e.g. --keep-topology")
     args = ap.parse_args()
     if args.compare:
         return compare(*args.compare)
@@ -87,7 +89,7 @@ def main():
     jobs = models(args.only)
     rows = []
     with cf.ThreadPoolExecutor(args.jobs) as ex:
-        for r in ex.map(lambda m: run_one(os.path.abspath(args.exe), m[0], m[1], args.keep), jobs):
+        for r in ex.map(lambda m: run_one(os.path.abspath(args.exe), m[0], m[1], args.keep, args.flags.split()), jobs):
             rows.extend(r)
     with open(args.out, "w") as f:
         for row in rows:

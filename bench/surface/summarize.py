@@ -115,6 +115,11 @@ GMSH = {
 THRESHOLDS = {
     "unit_edge_share_min": 0.90,
     "share_Q_lt_1_5_min": 0.95,
+    # triangle count against gmsh6 with the same options: at most 1.5x where Gmsh's own mesh
+    # is decent (its Q max <= 10), 3x where Gmsh buys its count with slivers
+    "gmsh_ratio_decent": 1.5,
+    "gmsh_ratio_slivers": 3.0,
+    "gmsh_decent_Q_max": 10.0,
 }
 # --------------------------------------------------------------------------------------
 
@@ -127,6 +132,35 @@ QUICK_MODELS = ("axom_tet.step", "gmsh_cube_fillet.stp", "gmsh_full_sphere.brep"
                 "nist_ctc_01.stp", "occt_screw.step")
 NOT_AVAILABLE = "uvmesh mesh: not available"
 
+
+
+def triangle_ratio_table(results):
+    """Rows of uvmesh triangles / gmsh6 triangles per model, with the bound that applies
+    (THRESHOLDS: gmsh's Q max decides between the decent and the sliver bound)."""
+    L = ["## Triangle counts against gmsh6", "",
+         "Bound: %g x where gmsh6's Q max <= %g, else %g x." % (
+             THRESHOLDS["gmsh_ratio_decent"], THRESHOLDS["gmsh_decent_Q_max"], THRESHOLDS["gmsh_ratio_slivers"]), "",
+         "| model | uvmesh triangles | uvmesh Q max | gmsh6 triangles | gmsh6 Q max | ratio | bound | within |",
+         "|---|---:|---:|---:|---:|---:|---:|---|"]
+    over = []
+    for r in results:
+        u, g = r["tools"]["uvmesh"], r["tools"]["gmsh6"]
+        ug, gg = u.get("grade") or {}, g.get("grade") or {}
+        nu, ng = ug.get(GRADE["triangles"]), gg.get(GRADE["triangles"])
+        if g.get("status") not in ("ok", "error") or not nu or not ng:
+            continue
+        gq = gg.get(GRADE["Q_max"])
+        bound = THRESHOLDS["gmsh_ratio_decent"] if gq is not None and gq <= THRESHOLDS["gmsh_decent_Q_max"] \
+            else THRESHOLDS["gmsh_ratio_slivers"]
+        ratio = nu / ng
+        within = ratio <= bound
+        if not within:
+            over.append("%s %.2f" % (r["model"], ratio))
+        L.append("| %s | %s | %s | %s | %s | %.2f | %g | %s |" % (
+            r["model"], fmt(nu), fmt(ug.get(GRADE["Q_max"]), 3), fmt(ng), fmt(gq, 3), ratio, bound,
+            "yes" if within else "**no**"))
+    L += ["", "Over the bound: %s." % (", ".join(over) or "none"), ""]
+    return L
 
 def get(record, key, table):
     """record[table[key]] following the dotted path; None when any part is missing."""
@@ -581,6 +615,7 @@ def bench_markdown(results, ctx, seconds):
             wall(g6), wall(g5), fmt(g6["wall_s"] / uw, 2) if uw and g6.get("wall_s") else "–",
             fmt(g5["wall_s"] / uw, 2) if uw and g5.get("wall_s") else "–", tri(u), tri(g6), tet(u), tet(g6), tet(g5)))
     L.append("")
+    L += triangle_ratio_table(results)
     # ---- per model
     L.append("## Per model")
     L.append("")
