@@ -65,6 +65,7 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
   // and the simplify stage absorbs it (with keep_topology, down to hmin / 100).
   floor_ = spec.hmin > 0 ? spec.hmin : 1e-3 * D;
   prox_floor_ = proximity_floor(spec, D, feature);
+  sheet_floor_ = proximity_floor(spec, D, 0.0);
   eps_ = 1e-12 * D;
   for (std::size_t e = 0; e < m.edges.size(); ++e) {
     const geom::Edge& ed = m.edges[e];
@@ -103,10 +104,12 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
   std::vector<std::vector<geom::Id>> face_edges(
       m.faces.size());  // distinct non-degenerate edges per face
   std::vector<std::vector<geom::Id>> edge_faces(m.edges.size());  // distinct faces per edge
+  std::vector<int> uses(m.edges.size(), 0);
   for (std::size_t f = 0; f < m.faces.size(); ++f)
     for (const geom::Loop& l : m.faces[f].loops)
       for (const geom::EdgeUse& u : l.uses) {
         if (u.edge < 0 || poly_[static_cast<std::size_t>(u.edge)].p.empty()) continue;
+        ++uses[static_cast<std::size_t>(u.edge)];
         auto& fe = face_edges[f];
         if (std::find(fe.begin(), fe.end(), u.edge) == fe.end()) fe.push_back(u.edge);
         auto& ef = edge_faces[static_cast<std::size_t>(u.edge)];
@@ -123,9 +126,15 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
       for (geom::Id oe : face_edges[static_cast<std::size_t>(f)]) {
         if (static_cast<std::size_t>(oe) == e) continue;
         const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
-        // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor).
+        // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor). A
+        // gap below the feature size is an artefact to absorb into the faces beside it --
+        // unless both edges are free: then the gap is a sheet's own width, nothing is
+        // there to absorb it, and it is resolved down to hmin / 100 as before.
+        const bool sheet = uses[e] == 1 && uses[static_cast<std::size_t>(oe)] == 1;
         Neighbour nb{
-            oe, std::max(prox_floor_, kGapToleranceFactor * (self.tol + P.tol)), {false, false}};
+            oe,
+            std::max(sheet ? sheet_floor_ : prox_floor_, kGapToleranceFactor * (self.tol + P.tol)),
+            {false, false}};
         if (!self.p.empty())
           for (int k = 0; k < 2; ++k) {
             const geom::Vec3& q = k == 0 ? P.p.front() : P.p.back();
@@ -216,9 +225,10 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
       }
     }
   }
-  // The gradation cap stops at hmin, the proximity cap at hmin / 100 (never above h).
-  return std::min(
-      {h, std::max(best, floor_), std::max(at_vertex, prox_floor_), std::max(prox, prox_floor_)});
+  // The gradation cap stops at hmin, the proximity cap at the feature size (hmin / 100
+  // between two free edges; never above h).
+  return std::min({h, std::max(best, floor_), std::max(at_vertex, prox_floor_),
+                   std::max(prox, std::min(prox_floor_, sheet_floor_))});
 }
 
 }  // namespace uvmesh::surface::detail

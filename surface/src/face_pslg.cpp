@@ -83,25 +83,32 @@ void add_use_points(const FaceInput& job, const geom::EdgeUse& use, FacePslg& ps
 }
 
 // The closed chain of segments over the points [start, end) of one loop.
-// Boundary segments shorter than the proximity floor (seg_floor) exist only because their
-// CAD edge is shorter than the floor (the 1D sizes stop there, proximity_floor()), and
-// the edges beside them are not graded below it. Their length is no size to grade the
-// interior from either: it refined the interior around them down to their length, against
-// boundary segments at the floor, and fans of needles joined the two.
+// The segments of a CAD edge shorter than the proximity floor (seg_floor) are the
+// artefact's, not the user's sizes: the edges beside them are not graded below the floor
+// (proximity_floor()). Their length is no size to grade the interior from either: it
+// refined the interior around them down to their length, against boundary segments at
+// the floor, and fans of needles joined the two. With a feature size the test is on the
+// CAD edge's length, so that segments refined below the floor on purpose (a sheet's free
+// edges, a local edge size) still size the interior; with keep_topology it is on the
+// segment's length, as before feature sizes.
 void close_loop(const FaceInput& job, m2d::VertId start, m2d::VertId end, double seg_floor,
                 FacePslg& pslg) {
+  const bool by_edge = feature_size(job.opt, job.m.bbox.diagonal()) > 0;
   for (m2d::VertId i = start; i < end; ++i) {
     const m2d::VertId j = i + 1 < end ? i + 1 : start;
     // Marker edge id + 1; negative on a pole's collapsed side, which must not impose
     // its (u,v) length as a size (Options::boundary_gradation), and on a segment
     // shorter than the proximity floor (seg_floor).
     const geom::Id ei = pslg.pedge[static_cast<std::size_t>(i)];
-    const bool pole = job.m.edges[static_cast<std::size_t>(ei)].degenerate;
+    const geom::Edge& edge = job.m.edges[static_cast<std::size_t>(ei)];
+    const bool pole = edge.degenerate;
     const bool sub_floor =
-        glm::length(
-            job.node_points[static_cast<std::size_t>(pslg.gid[static_cast<std::size_t>(j)])] -
-            job.node_points[static_cast<std::size_t>(pslg.gid[static_cast<std::size_t>(i)])]) <
-        seg_floor;
+        by_edge
+            ? edge.length < seg_floor
+            : glm::length(
+                  job.node_points[static_cast<std::size_t>(pslg.gid[static_cast<std::size_t>(j)])] -
+                  job.node_points[static_cast<std::size_t>(
+                      pslg.gid[static_cast<std::size_t>(i)])]) < seg_floor;
     pslg.in.segments.push_back(
         {i, j, pole || sub_floor ? -(static_cast<int>(ei) + 1) : static_cast<int>(ei) + 1});
     pslg.sedge.push_back(ei);

@@ -115,6 +115,8 @@ class BoundaryCaps {
   };
   std::vector<std::vector<Neighbour>> nbrs_;  ///< per edge, in the order cap() visits them
   double beta_ = 1.3, floor_ = 0.0, prox_floor_ = 0.0, eps_ = 0.0;
+  /// The proximity floor between two free edges (each used once): hmin / 100.
+  double sheet_floor_ = 0.0;
 };
 
 /// A face's contribution before stitching. Corners of triangles are global node ids
