@@ -212,6 +212,11 @@ double mesh_faces(ModelRun& run, Clock::time_point t_curves) {
   }
   const auto t0 = Clock::now();
   retry_from_boundary(run);
+  // Faces meshed after their (u,v) boundary was repaired (face_uv_repair.cpp), once each,
+  // as the last round meshed them.
+  for (std::size_t f = 0; f < run.nf; ++f)
+    if (run.fm[f].error.empty() && !run.fm[f].repair.empty())
+      run.res.warnings.push_back("face " + std::to_string(f) + ": " + run.fm[f].repair);
   return t_faces + seconds_since(t0);
 }
 

@@ -2,8 +2,11 @@
 // nodes through each use's pcurve at the same curve parameters (never by projection,
 // face_pslg.cpp); mesher2d meshes it under the induced metric M_uv = J^T M3 J (the face
 // metric, face_metric.h); the vertices are mapped back through sigma and the mesh is
-// improved in 3D and repaired (face_repair.cpp). A face whose (u,v) boundary is unusable
-// may be triangulated from its boundary nodes instead (face_from_boundary.cpp).
+// improved in 3D and repaired (face_repair.cpp). Uses whose pcurves disagree with their
+// 3D edges -- before meshing, or where mesher2d finds two (u,v) curves crossing -- get the
+// (u,v) of their nodes' projections instead (face_uv_repair.cpp). A face whose (u,v)
+// boundary is still unusable may be triangulated from its boundary nodes
+// (face_from_boundary.cpp).
 #include <cmath>
 #include <sstream>
 
@@ -69,10 +72,18 @@ void fail_in_mesher2d(const FaceInput& job, const FacePslg& pslg, const m2d::Res
   out.error = std::move(msg);
 }
 
-// ---- mesher2d under the face metric, in its v-scaled frame. False: the face failed
-// (out says why).
-bool mesh_in_uv(const FaceInput& job, const FacePslg& pslg, FaceMetric& metric, m2d::Result& r,
-                FaceMesh& out) {
+// Retries of mesher2d after a crossing of (u,v) curves was repaired: each failure names
+// one pair of crossing segments.
+constexpr int kCrossingRepairs = 8;
+
+// A use whose nodes lie farther than this many CAD tolerances from sigma at their (u,v)
+// has its (u,v) recomputed before meshing (face_uv_repair.cpp); a use whose (u,v)
+// polyline crosses another's, beyond its tolerance at all.
+constexpr double kDisagreeFactor = 100.0;
+constexpr double kCrossingFactor = 1.0;
+
+// mesher2d under the face metric, in its v-scaled frame.
+m2d::Result run_mesher2d(const FaceInput& job, const FacePslg& pslg, FaceMetric& metric) {
   m2d::Pslg in = pslg.in;
   for (auto& p : in.points) p = metric.to_mesher(p);
   m2d::Options o;
@@ -85,7 +96,28 @@ bool mesh_in_uv(const FaceInput& job, const FacePslg& pslg, FaceMetric& metric, 
   o.collapse_short_edges = false;
   o.time_limit = job.opt.face_time_limit;
   o.measure = false;  // the face's quality is measured in 3D below, not in the (u,v) metric
-  r = m2d::mesh(in, metric.mesher_size(), o);
+  return m2d::mesh(in, metric.mesher_size(), o);
+}
+
+// The model edges of the two crossing segments mesher2d named, or none.
+std::vector<geom::Id> crossing_edges(const FacePslg& pslg, const m2d::Result& r) {
+  if (r.status.code != m2d::StatusCode::CrossingSegments || r.status.entities.size() < 2) return {};
+  return {pslg.sedge[static_cast<std::size_t>(r.status.entities[0])],
+          pslg.sedge[static_cast<std::size_t>(r.status.entities[1])]};
+}
+
+// ---- mesher2d; where two (u,v) curves cross, their uses' (u,v) are repaired from the
+// 3D nodes when they disagree with them (repair_uv_boundary) and the face is meshed
+// again. False: the face failed (out says why).
+bool mesh_in_uv(const FaceInput& job, FacePslg& pslg, FaceMetric& metric, UvRepair& rep,
+                m2d::Result& r, FaceMesh& out) {
+  r = run_mesher2d(job, pslg, metric);
+  for (int k = 0; k < kCrossingRepairs && !r.ok(); ++k) {
+    const std::vector<geom::Id> pair = crossing_edges(pslg, r);
+    if (pair.empty() || repair_uv_boundary(job, pslg, pair, kCrossingFactor, rep) == 0) break;
+    rep.crossing = true;
+    r = run_mesher2d(job, pslg, metric);
+  }
   if (!r.ok()) {
     fail_in_mesher2d(job, pslg, r, out);
     return false;
@@ -248,9 +280,12 @@ FaceMesh mesh_face(const geom::Model& m, geom::Id fid, const std::vector<EdgeNod
   if (!check_face_pslg(pslg, out.error)) return out;
 
   const bool has_pole = face_has_pole(m, f);
+  UvRepair rep;
+  repair_uv_boundary(job, pslg, {}, kDisagreeFactor, rep);
   FaceMetric metric(field, f, has_pole);
   m2d::Result r;
-  if (!mesh_in_uv(job, pslg, metric, r, out)) return out;
+  if (!mesh_in_uv(job, pslg, metric, rep, r, out)) return out;
+  if (!rep.edges.empty() || !rep.shifted.empty()) out.repair = rep.describe();
   LocalMesh lm;
   if (!map_back(job, pslg, metric, r.mesh, lm, out)) return out;
 

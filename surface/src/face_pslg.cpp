@@ -141,6 +141,18 @@ void add_embedded(const FaceInput& job, FacePslg& pslg) {
   }
 }
 
+// One closed loop (the boundary triangulation's case): nothing embedded, every point on
+// a closing chain, and a single loop with a use that is not embedded.
+bool is_one_loop(const geom::Face& f, const FacePslg& pslg) {
+  return pslg.embedded.empty() && pslg.in.segments.size() == pslg.in.points.size() &&
+         std::count_if(f.loops.begin(), f.loops.end(), [](const geom::Loop& l) {
+           return std::any_of(l.uses.begin(), l.uses.end(),
+                              [](const geom::EdgeUse& u) { return !u.internal; });
+         }) == 1;
+}
+
+}  // namespace
+
 // One node, one (u,v) point per side: the pcurves of two edges meeting at a vertex end
 // a few ulps apart, and a loop touching the seam at a vertex would then put a point a
 // hair off the seam's segment. Occurrences of a node closer than a millionth of the
@@ -171,18 +183,6 @@ void snap_node_copies(const geom::Box2& box, FacePslg& pslg) {
   }
 }
 
-// One closed loop (the boundary triangulation's case): nothing embedded, every point on
-// a closing chain, and a single loop with a use that is not embedded.
-bool is_one_loop(const geom::Face& f, const FacePslg& pslg) {
-  return pslg.embedded.empty() && pslg.in.segments.size() == pslg.in.points.size() &&
-         std::count_if(f.loops.begin(), f.loops.end(), [](const geom::Loop& l) {
-           return std::any_of(l.uses.begin(), l.uses.end(),
-                              [](const geom::EdgeUse& u) { return !u.internal; });
-         }) == 1;
-}
-
-}  // namespace
-
 bool face_has_pole(const geom::Model& m, const geom::Face& f) {
   bool has_pole = false;
   for (const geom::Loop& loop : f.loops)
@@ -197,6 +197,7 @@ bool build_face_pslg(const FaceInput& job, FacePslg& pslg, std::string& error) {
   const double seg_floor = proximity_floor(job.opt.size, D, feature_size(job.opt, D));
   for (const geom::Loop& loop : job.f.loops) {
     const auto start = static_cast<m2d::VertId>(pslg.in.points.size());
+    const std::size_t span_lo = pslg.spans.size();
     for (const geom::EdgeUse& use : loop.uses) {
       if (use.internal) {
         pslg.embedded.push_back(&use);
@@ -206,10 +207,13 @@ bool build_face_pslg(const FaceInput& job, FacePslg& pslg, std::string& error) {
         error = "edge " + std::to_string(use.edge) + " has no (u,v) curve on this face";
         return false;
       }
+      const std::size_t first = pslg.in.points.size();
       add_use_points(job, use, pslg);
+      pslg.spans.push_back({&use, first, pslg.in.points.size()});
     }
     const auto end = static_cast<m2d::VertId>(pslg.in.points.size());
     if (end == start) continue;  // a wire holding only embedded edges
+    pslg.loop_spans.push_back({span_lo, pslg.spans.size()});
     close_loop(job, start, end, seg_floor, pslg);
   }
   add_embedded(job, pslg);

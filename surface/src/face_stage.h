@@ -39,6 +39,13 @@ struct FacePslg {
   std::vector<std::array<double, 2>> piece;
   std::vector<std::array<double, 2>> spiece;   ///< PSLG segment -> its piece
   std::vector<const geom::EdgeUse*> embedded;  ///< INTERNAL uses: open chains, added last
+  /// The points [first, end) of one (not embedded) use, in loop order.
+  struct UseSpan {
+    const geom::EdgeUse* use;
+    std::size_t first, end;
+  };
+  std::vector<UseSpan> spans;
+  std::vector<std::array<std::size_t, 2>> loop_spans;  ///< per loop: its spans [lo, hi)
   /// One closed loop and nothing embedded: the boundary triangulation may apply.
   bool one_loop = false;
 };
@@ -49,8 +56,29 @@ bool face_has_pole(const geom::Model& m, const geom::Face& f);
 /// Builds the face's PSLG (face_pslg.cpp). False with `error` set when an edge has no
 /// (u,v) curve.
 bool build_face_pslg(const FaceInput& job, FacePslg& pslg, std::string& error);
+/// Occurrences of one node closer than a millionth of the (u,v) box snapped together
+/// (face_pslg.cpp).
+void snap_node_copies(const geom::Box2& box, FacePslg& pslg);
 /// The PSLG can go to mesher2d: at least 3 segments, finite points. Else `error`.
 bool check_face_pslg(const FacePslg& pslg, std::string& error);
+
+/// What the (u,v) boundary repair changed (face_uv_repair.cpp): the model edges whose
+/// uses got projected (u,v), and the largest node-to-sigma distance before and after.
+struct UvRepair {
+  std::vector<geom::Id> edges;
+  std::vector<geom::Id> shifted;  ///< uses moved by a period (periodic surfaces)
+  double worst_before = 0, worst_after = 0;
+  bool crossing = false;         ///< found where two (u,v) curves crossed
+  std::string describe() const;  ///< names the edges, the distances and the repair
+};
+/// Recomputes the (u,v) of the boundary nodes of every use whose nodes lie farther than
+/// tol_factor times its CAD tolerance from sigma at their (u,v), by projecting the 3D
+/// nodes onto the surface (a continuation along the loop, seams unwrapped); `only`
+/// non-empty: the uses of those edges only. Edges already in `rep` are left alone.
+/// Before that (only empty), a use a whole period away from both its neighbours is
+/// moved by the period. Returns the number of uses changed (added to rep).
+int repair_uv_boundary(const FaceInput& job, FacePslg& pslg, const std::vector<geom::Id>& only,
+                       double tol_factor, UvRepair& rep);
 
 /// Triangulates a face from its boundary nodes alone, in 3D (face_from_boundary.cpp);
 /// false with the reason in *why when the result would not be a sound disc.

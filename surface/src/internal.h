@@ -132,6 +132,8 @@ struct FaceMesh {
   /// Triangulated from its boundary nodes only (its (u,v) boundary was unusable; see
   /// mesh_face's boundary_fallback).
   bool from_boundary = false;
+  /// Non-empty: the face's (u,v) boundary was repaired, and how (a warning of the run).
+  std::string repair;
   /// Failed on its (u,v) boundary with one loop: the boundary triangulation may apply.
   bool uv_defect = false;
   FaceStats stats;
