@@ -167,6 +167,11 @@ MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
 
   // ---- 3. stitch.
   detail::stitch(run);
+
+  // ---- 4. simplify: entities below the feature size absorbed (simplify3d.h).
+  t0 = Clock::now();
+  detail::simplify(run);
+  run.res.stages.push_back({"simplify", seconds_since(t0)});
   run.res.stages.push_back({"total", seconds_since(t_all)});
   return std::move(run.res);
 }

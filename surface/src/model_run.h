@@ -7,6 +7,7 @@
 //   crossing_rounds.cpp stage 2: node numbering and the faces, again while (u,v)
 //                       boundaries cross; the boundary triangulation of what is left
 //   stitch.cpp          stage 3: one SurfaceMesh by global ids
+//   simplify3d.cpp      needles and caps of entities below the feature size removed
 // Not installed.
 #pragma once
 
@@ -111,5 +112,10 @@ double mesh_faces(ModelRun& run, Clock::time_point t_curves);
 /// Stage 3 (stitch.cpp): the face meshes into res.mesh by global ids, failures listed,
 /// unused model vertices dropped.
 void stitch(ModelRun& run);
+
+/// After stitching (simplify3d.cpp): triangles forced by entities smaller than the
+/// feature size (feature_size()) collapsed, swapped or split away, each absorbed entity
+/// listed in res.simplified. Does nothing under keep_topology.
+void simplify(ModelRun& run);
 
 }  // namespace uvmesh::surface::detail

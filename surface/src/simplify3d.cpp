@@ -1,0 +1,835 @@
+// The simplification stage (simplify3d.h): edge collapses, swaps and splits on the
+// stitched mesh, judged by the 3D shape quality Q_K (eq. 7.6), with vertices kept on
+// their model entities. Each operation is local and only the triangles it made are
+// candidates of the next round, so a round costs O(k log k) in its k candidates after
+// the first, O(n log n), scan.
+#include "simplify3d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <tuple>
+
+#include "model_run.h"
+#include "uvmesh/geom/project.h"
+#include "uvmesh/mesher2d/measures.h"
+
+namespace uvmesh::surface::detail {
+
+namespace {
+
+using geom::Vec2;
+using geom::Vec3;
+using Tri = std::array<NodeId, 3>;
+using TriUV = std::array<Vec2, 3>;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// A collapse or swap may turn no triangle by more than this (the fold guard of §7.3.6).
+const double kMaxTurn = std::cos(60.0 * std::numbers::pi / 180.0);
+constexpr int kRounds = 24;
+// What a collapse of an edge shorter than L may leave even when it is worse than before.
+constexpr double kFairShape = 2.0;
+
+std::string fmt(double x) {
+  std::ostringstream s;
+  s.precision(3);
+  s << x;
+  return s.str();
+}
+
+double shape(const Vec3& p, const Vec3& q, const Vec3& r) {
+  const double area2 = glm::length(glm::cross(q - p, r - p));
+  if (!(area2 > 0)) return kInf;
+  return measures::shape_Q(glm::length(q - p), glm::length(r - q), glm::length(p - r), area2);
+}
+
+Vec3 unit_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
+  const Vec3 n = glm::cross(q - p, r - p);
+  const double l = glm::length(n);
+  return l > 0 ? n / l : Vec3(0.0);
+}
+
+// A triangle about to be written: its corners, face and (u,v) on that face.
+struct NewTri {
+  int slot = -1;  ///< triangle index it replaces, -1: appended
+  Tri v{};
+  geom::Id face = geom::kNone;
+  TriUV uv{};
+};
+
+struct Simplifier {
+  const SimplifyInput& in;
+  const geom::Model& m;
+  SurfaceMesh& M;
+  std::vector<Simplification> log;
+
+  std::vector<char> tri_alive, node_alive, seg_alive;
+  std::vector<std::vector<int>> vtris, nsegs, eseg;
+  std::vector<std::vector<geom::Id>> efaces;
+  std::vector<char> sharp, dissolved;
+  std::vector<double> dihedral;  ///< per model edge, degrees (max along it)
+  std::vector<int> touched;
+  bool changed = false;
+
+  Simplifier(const SimplifyInput& i, SurfaceMesh& mesh) : in(i), m(i.model), M(mesh) {}
+
+  // ---- accessors
+  const Vec3& P(NodeId n) const { return M.points[static_cast<std::size_t>(n)]; }
+  int dim(NodeId n) const { return M.point_dim[static_cast<std::size_t>(n)]; }
+  geom::Id ent(NodeId n) const { return M.point_entity[static_cast<std::size_t>(n)]; }
+  const Tri& T(int t) const { return M.triangles[static_cast<std::size_t>(t)]; }
+  double Q(int t) const { return shape(P(T(t)[0]), P(T(t)[1]), P(T(t)[2])); }
+  /// face interior < smooth model edge < sharp model edge < model vertex
+  int rank(NodeId n) const {
+    if (dim(n) == 2) return 0;
+    if (dim(n) == 0) return 3;
+    return sharp[static_cast<std::size_t>(ent(n))] ? 2 : 1;
+  }
+  template <class F>
+  void for_tris(NodeId n, F&& f) const {
+    for (int t : vtris[static_cast<std::size_t>(n)])
+      if (tri_alive[static_cast<std::size_t>(t)] && has(T(t), n)) f(t);
+  }
+  static bool has(const Tri& v, NodeId n) { return v[0] == n || v[1] == n || v[2] == n; }
+  /// The alive segment a-b, or -1.
+  int segment(NodeId a, NodeId b) const {
+    for (int s : nsegs[static_cast<std::size_t>(a)]) {
+      const auto& g = M.segments[static_cast<std::size_t>(s)];
+      if (seg_alive[static_cast<std::size_t>(s)] && (g.a == b || g.b == b)) return s;
+    }
+    return -1;
+  }
+  std::vector<int> edge_tris(NodeId a, NodeId b) const {
+    std::vector<int> r;
+    for_tris(a, [&](int t) {
+      if (has(T(t), b)) r.push_back(t);
+    });
+    return r;
+  }
+  std::vector<NodeId> neighbours(NodeId a) const {
+    std::vector<NodeId> r;
+    for_tris(a, [&](int t) {
+      for (NodeId v : T(t))
+        if (v != a) r.push_back(v);
+    });
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    return r;
+  }
+  /// (u,v) of node n on face f from a triangle of f around it, the one nearest `ref`.
+  std::optional<Vec2> uv_on(NodeId n, geom::Id f, const Vec2* ref) const {
+    std::optional<Vec2> best;
+    double bd = kInf;
+    for_tris(n, [&](int t) {
+      if (M.triangle_face[static_cast<std::size_t>(t)] != f) return;
+      const Tri& v = T(t);
+      const int k = v[0] == n ? 0 : (v[1] == n ? 1 : 2);
+      const Vec2 uv = M.triangle_uv[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)];
+      const double d = ref ? glm::length(uv - *ref) : 0.0;
+      if (d < bd) bd = d, best = uv;
+    });
+    return best;
+  }
+  geom::Projection project(geom::Id f, const Vec3& x, const Vec2& seed, double scale) const {
+    const geom::Face& F = m.faces[static_cast<std::size_t>(f)];
+    return geom::project_to_surface(*F.surface, x, seed, F.uv_box, scale);
+  }
+
+  void init();
+  void classify_edges();
+  double edge_dihedral(geom::Id e) const;
+  bool place(NewTri& nt, geom::Id f0, const TriUV& hint) const;
+  bool place_on(NewTri& nt, geom::Id f, const TriUV* hint, double& dist) const;
+  struct Plan {
+    bool ok = false;
+    double worst = kInf;
+    bool dissolve = false;
+    std::vector<NewTri> tris;
+    std::vector<int> removed;
+  };
+  Plan plan_collapse(NodeId a, NodeId b) const;
+  bool collapse_allowed(NodeId a, NodeId b, bool& dissolve) const;
+  bool link_ok(NodeId a, NodeId b, const std::vector<int>& removed) const;
+  void apply_collapse(NodeId a, NodeId b, const Plan& p);
+  void write(const NewTri& nt);
+  void dissolve(geom::Id e);
+  bool try_collapse(NodeId a, NodeId b);
+  bool collapse_pass(const std::vector<int>& cand);
+  bool try_flip(int t, int k, double limit);
+  bool try_split(int t, int k);
+  bool repair_pass(const std::vector<int>& cand);
+  double node_param(NodeId n, geom::Id e, double hint) const;
+  NodeId add_edge_node(geom::Id e, double t);
+  void run();
+  void finish(const std::vector<double>& area0);
+  void compact();
+};
+
+void Simplifier::init() {
+  const std::size_t nn = M.points.size(), nt = M.triangles.size();
+  tri_alive.assign(nt, 1);
+  node_alive.assign(nn, 1);
+  seg_alive.assign(M.segments.size(), 1);
+  vtris.assign(nn, {});
+  nsegs.assign(nn, {});
+  eseg.assign(m.edges.size(), {});
+  for (std::size_t t = 0; t < nt; ++t)
+    for (NodeId v : M.triangles[t])
+      vtris[static_cast<std::size_t>(v)].push_back(static_cast<int>(t));
+  for (std::size_t s = 0; s < M.segments.size(); ++s) {
+    const auto& g = M.segments[s];
+    nsegs[static_cast<std::size_t>(g.a)].push_back(static_cast<int>(s));
+    nsegs[static_cast<std::size_t>(g.b)].push_back(static_cast<int>(s));
+    if (g.edge >= 0) eseg[static_cast<std::size_t>(g.edge)].push_back(static_cast<int>(s));
+  }
+  efaces = geom::edge_faces(m);
+  classify_edges();
+}
+
+// The largest angle between the material-side normals of the edge's two faces, at the
+// edge's nodes (the CAD normals at the (u,v) the triangles give them).
+double Simplifier::edge_dihedral(geom::Id e) const {
+  const auto& fs = efaces[static_cast<std::size_t>(e)];
+  double worst = -1;
+  for (int s : eseg[static_cast<std::size_t>(e)]) {
+    const auto& g = M.segments[static_cast<std::size_t>(s)];
+    for (NodeId n : {g.a, g.b}) {
+      Vec3 nrm[2];
+      bool ok = true;
+      for (int i = 0; i < 2 && ok; ++i) {
+        const geom::Face& F = m.faces[static_cast<std::size_t>(fs[static_cast<std::size_t>(i)])];
+        const auto uv = uv_on(n, fs[static_cast<std::size_t>(i)], nullptr);
+        if (!uv || !F.surface) {
+          ok = false;
+          break;
+        }
+        nrm[i] = F.surface->eval_first(uv->x, uv->y).normal() * (F.reversed ? -1.0 : 1.0);
+        ok = glm::length(nrm[i]) > 0.5;
+      }
+      if (!ok) continue;
+      const double c = std::clamp(glm::dot(nrm[0], nrm[1]), -1.0, 1.0);
+      worst = std::max(worst, std::acos(c) * 180.0 / std::numbers::pi);
+    }
+  }
+  return worst;
+}
+
+// Sharp: kept as a chain of segments (simplify3d.h).
+void Simplifier::classify_edges() {
+  const std::size_t ne = m.edges.size();
+  sharp.assign(ne, 1);
+  dissolved.assign(ne, 0);
+  dihedral.assign(ne, 180.0);
+  std::vector<geom::Id> solid_of_shell(m.shells.size(), geom::kNone);
+  for (std::size_t s = 0; s < m.solids.size(); ++s)
+    for (geom::Id sh : m.solids[s].shells)
+      if (sh >= 0 && static_cast<std::size_t>(sh) < m.shells.size())
+        solid_of_shell[static_cast<std::size_t>(sh)] = static_cast<geom::Id>(s);
+  auto solid = [&](geom::Id f) {
+    const geom::Id sh = m.faces[static_cast<std::size_t>(f)].shell;
+    return sh >= 0 ? solid_of_shell[static_cast<std::size_t>(sh)] : geom::kNone;
+  };
+  for (std::size_t e = 0; e < ne; ++e) {
+    const auto& fs = efaces[e];
+    if (fs.size() != 2 || eseg[e].empty()) continue;  // free, non-manifold or seam
+    const geom::Face &f0 = m.faces[static_cast<std::size_t>(fs[0])],
+                     &f1 = m.faces[static_cast<std::size_t>(fs[1])];
+    if (solid(fs[0]) != solid(fs[1])) continue;
+    if (f0.name != f1.name && !(f0.name.empty() && f1.name.empty())) continue;
+    dihedral[e] = edge_dihedral(static_cast<geom::Id>(e));
+    sharp[e] = !(dihedral[e] >= 0 && dihedral[e] < in.feature_angle * 180.0 / std::numbers::pi);
+  }
+}
+
+// The face of a new triangle: among its old face and the faces of its corners, the one
+// its centroid projects closest onto; its corners' (u,v) on that face. False when the
+// centroid is farther than the chordal tolerance from it.
+bool Simplifier::place(NewTri& nt, geom::Id f0, const TriUV& hint) const {
+  std::vector<geom::Id> cand;
+  for (NodeId v : nt.v) {
+    if (dim(v) == 2) cand.push_back(ent(v));
+    if (dim(v) == 1)
+      for (geom::Id f : efaces[static_cast<std::size_t>(ent(v))]) cand.push_back(f);
+  }
+  std::sort(cand.begin(), cand.end());
+  cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+  double best = kInf;
+  NewTri keep = nt;
+  if (place_on(keep, f0, &hint, best)) nt = keep;
+  for (geom::Id f : cand) {
+    if (f == f0) continue;
+    NewTri tr = nt;
+    double d = kInf;
+    if (place_on(tr, f, nullptr, d) && d < best) best = d, nt = tr;
+  }
+  if (best == kInf) return false;
+  return in.chordal_tol <= 0 || best <= in.chordal_tol;
+}
+
+bool Simplifier::place_on(NewTri& nt, geom::Id f, const TriUV* hint, double& dist) const {
+  const geom::Face& F = m.faces[static_cast<std::size_t>(f)];
+  if (!F.surface) return false;
+  std::array<std::optional<Vec2>, 3> uv;
+  int known = -1;
+  for (int k = 0; k < 3; ++k) {
+    uv[k] = uv_on(nt.v[k], f, hint ? &(*hint)[k] : nullptr);
+    if (uv[k] && known < 0) known = k;
+  }
+  if (known < 0 && !hint) return false;
+  const Vec3 &a = P(nt.v[0]), &b = P(nt.v[1]), &c = P(nt.v[2]);
+  const double h = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  for (int k = 0; k < 3; ++k)
+    if (!uv[k]) {
+      const Vec2 seed = hint ? (*hint)[k] : *uv[known];
+      uv[k] = project(f, P(nt.v[k]), seed, h).uv;
+    }
+  nt.face = f;
+  for (int k = 0; k < 3; ++k) nt.uv[k] = *uv[k];
+  const geom::Projection pc = project(f, (a + b + c) / 3.0, (*uv[0] + *uv[1] + *uv[2]) / 3.0, h);
+  dist = pc.distance;
+  return true;
+}
+
+// The rank rules of simplify3d.h: lower rank onto higher; along a sharp edge only; model
+// vertices only along a model edge shorter than L. `dissolve`: a's smooth edge goes.
+bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
+  dissolve = false;
+  if (rank(a) > rank(b)) return false;
+  const int s = segment(a, b);
+  if (dim(a) == 0) {
+    if (s < 0) return false;
+    const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
+    return dim(b) == 0 && e >= 0 && m.edges[static_cast<std::size_t>(e)].length < in.feature_size;
+  }
+  if (dim(a) == 1) {
+    if (s >= 0 && M.segments[static_cast<std::size_t>(s)].edge == ent(a)) return true;
+    // Two sharp edges closer than L (the two sides of a sliver face): one gives its
+    // nodes to the other.
+    if (sharp[static_cast<std::size_t>(ent(a))])
+      return rank(b) >= 2 && glm::length(P(a) - P(b)) < in.feature_size;
+    dissolve = true;
+  }
+  return true;
+}
+
+// Link condition: the common neighbours of a and b are the apexes of the triangles on a-b
+// (else the collapse pinches the surface or duplicates a triangle).
+bool Simplifier::link_ok(NodeId a, NodeId b, const std::vector<int>& removed) const {
+  const auto na = neighbours(a), nb = neighbours(b);
+  std::vector<NodeId> common, apex;
+  std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(common));
+  for (int t : removed)
+    for (NodeId v : T(t))
+      if (v != a && v != b) apex.push_back(v);
+  std::sort(apex.begin(), apex.end());
+  apex.erase(std::unique(apex.begin(), apex.end()), apex.end());
+  return common == apex && !removed.empty();
+}
+
+Simplifier::Plan Simplifier::plan_collapse(NodeId a, NodeId b) const {
+  Plan p;
+  if (!collapse_allowed(a, b, p.dissolve)) return p;
+  p.removed = edge_tris(a, b);
+  if (!link_ok(a, b, p.removed)) return p;
+  double old_worst = 0;
+  for (int t : p.removed) old_worst = std::max(old_worst, Q(t));
+  bool ok = true;
+  p.worst = 0;
+  for_tris(a, [&](int t) {
+    if (!ok || has(T(t), b)) return;
+    old_worst = std::max(old_worst, Q(t));
+    NewTri nt;
+    nt.slot = t;
+    nt.v = T(t);
+    for (NodeId& v : nt.v)
+      if (v == a) v = b;
+    const Vec3 n0 = unit_normal(P(T(t)[0]), P(T(t)[1]), P(T(t)[2]));
+    const Vec3 n1 = unit_normal(P(nt.v[0]), P(nt.v[1]), P(nt.v[2]));
+    if (glm::dot(n0, n1) < kMaxTurn) ok = false;
+    p.worst = std::max(p.worst, shape(P(nt.v[0]), P(nt.v[1]), P(nt.v[2])));
+    p.tris.push_back(nt);
+  });
+  // Never worse than the worst triangle replaced, unless that one is removed for good.
+  // An edge shorter than L may also go where the triangles it leaves stay fair.
+  const bool short_edge = glm::length(P(a) - P(b)) < in.feature_size;
+  if (!ok || !(p.worst <= old_worst || (old_worst > kBadShape && p.worst < kBadShape) ||
+               (short_edge && p.worst < kFairShape)))
+    return p;
+  for (NewTri& nt : p.tris)
+    if (!place(nt, M.triangle_face[static_cast<std::size_t>(nt.slot)],
+               M.triangle_uv[static_cast<std::size_t>(nt.slot)]))
+      return p;
+  p.ok = true;
+  return p;
+}
+
+void Simplifier::write(const NewTri& nt) {
+  int t = nt.slot;
+  if (t < 0) {
+    t = static_cast<int>(M.triangles.size());
+    M.triangles.push_back(nt.v);
+    M.triangle_face.push_back(nt.face);
+    M.triangle_uv.push_back(nt.uv);
+    tri_alive.push_back(1);
+  } else {
+    M.triangles[static_cast<std::size_t>(t)] = nt.v;
+    M.triangle_face[static_cast<std::size_t>(t)] = nt.face;
+    M.triangle_uv[static_cast<std::size_t>(t)] = nt.uv;
+  }
+  for (NodeId v : nt.v) {
+    auto& l = vtris[static_cast<std::size_t>(v)];
+    if (std::find(l.begin(), l.end(), t) == l.end()) l.push_back(t);
+  }
+  touched.push_back(t);
+  changed = true;
+}
+
+// A smooth edge the mesh stops following: its segments go, its nodes become nodes of the
+// face (the lower id) whose triangles they touch.
+void Simplifier::dissolve(geom::Id e) {
+  if (dissolved[static_cast<std::size_t>(e)]) return;
+  dissolved[static_cast<std::size_t>(e)] = 1;
+  for (int s : eseg[static_cast<std::size_t>(e)]) {
+    if (!seg_alive[static_cast<std::size_t>(s)]) continue;
+    seg_alive[static_cast<std::size_t>(s)] = 0;
+    const auto& g = M.segments[static_cast<std::size_t>(s)];
+    for (NodeId n : {g.a, g.b}) {
+      if (dim(n) != 1 || ent(n) != e) continue;
+      geom::Id f = std::numeric_limits<geom::Id>::max();
+      for_tris(n, [&](int t) { f = std::min(f, M.triangle_face[static_cast<std::size_t>(t)]); });
+      M.point_dim[static_cast<std::size_t>(n)] = 2;
+      M.point_entity[static_cast<std::size_t>(n)] = f;
+      M.point_t[static_cast<std::size_t>(n)] = 0.0;
+    }
+  }
+  Simplification s;
+  s.what = "edge dissolved";
+  s.edges = {e};
+  s.faces = efaces[static_cast<std::size_t>(e)];
+  s.size = m.edges[static_cast<std::size_t>(e)].length;
+  s.why = "dihedral " + fmt(dihedral[static_cast<std::size_t>(e)]) + " deg < feature angle " +
+          fmt(in.feature_angle * 180.0 / std::numbers::pi) + " deg";
+  log.push_back(std::move(s));
+  changed = true;
+}
+
+void Simplifier::apply_collapse(NodeId a, NodeId b, const Plan& p) {
+  if (dim(a) == 0) {  // a model edge shorter than L: its two vertices become one
+    const int s = segment(a, b);
+    const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
+    Simplification r;
+    r.what = "edge collapsed to a vertex";
+    r.vertices = {ent(a), ent(b)};
+    r.edges = {e};
+    r.size = m.edges[static_cast<std::size_t>(e)].length;
+    r.why = "length " + fmt(r.size) + " < feature size " + fmt(in.feature_size);
+    log.push_back(std::move(r));
+  }
+  if (p.dissolve) dissolve(ent(a));
+  for (int t : p.removed) tri_alive[static_cast<std::size_t>(t)] = 0;
+  for (const NewTri& nt : p.tris) write(nt);
+  for (int s : nsegs[static_cast<std::size_t>(a)]) {
+    if (!seg_alive[static_cast<std::size_t>(s)]) continue;
+    auto& g = M.segments[static_cast<std::size_t>(s)];
+    if (g.a == b || g.b == b) {
+      seg_alive[static_cast<std::size_t>(s)] = 0;
+      continue;
+    }
+    (g.a == a ? g.a : g.b) = b;
+    nsegs[static_cast<std::size_t>(b)].push_back(s);
+  }
+  node_alive[static_cast<std::size_t>(a)] = 0;
+  vtris[static_cast<std::size_t>(a)].clear();
+  changed = true;
+}
+
+bool Simplifier::try_collapse(NodeId a, NodeId b) {
+  if (!node_alive[static_cast<std::size_t>(a)] || !node_alive[static_cast<std::size_t>(b)])
+    return false;
+  Plan ab = plan_collapse(a, b), ba = plan_collapse(b, a);
+  if (ab.ok && ba.ok && rank(a) == rank(b) && dim(a) == 0) {
+    // Two model vertices: the one on more sharp edges stays (a box corner, not the end
+    // of a split line).
+    auto sharp_edges = [&](NodeId n) {
+      int c = 0;
+      for (int s : nsegs[static_cast<std::size_t>(n)])
+        c += seg_alive[static_cast<std::size_t>(s)] &&
+             sharp[static_cast<std::size_t>(M.segments[static_cast<std::size_t>(s)].edge)];
+      return c;
+    };
+    const int ca = sharp_edges(a), cb = sharp_edges(b);
+    if (ca != cb) (ca > cb ? ab : ba).ok = false;
+  }
+  if (ab.ok && (!ba.ok || ab.worst <= ba.worst)) return apply_collapse(a, b, ab), true;
+  if (ba.ok) return apply_collapse(b, a, ba), true;
+  return false;
+}
+
+// Short edges (below L) and the short edges of needles, shortest first.
+bool Simplifier::collapse_pass(const std::vector<int>& cand) {
+  std::vector<std::tuple<double, NodeId, NodeId>> edges;
+  for (int t : cand) {
+    if (!tri_alive[static_cast<std::size_t>(t)]) continue;
+    const Tri& v = T(t);
+    const double q = Q(t);
+    double len[3], longest = 0;
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, len[k] = glm::length(P(v[(k + 1) % 3]) - P(v[k])));
+    for (int k = 0; k < 3; ++k) {
+      const bool needle =
+          (q > kBadShape && len[k] < 0.5 * longest) || (q > kPoorShape && len[k] < 0.25 * longest);
+      if (len[k] < in.feature_size || needle)
+        edges.emplace_back(len[k], std::min(v[k], v[(k + 1) % 3]), std::max(v[k], v[(k + 1) % 3]));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  bool any = false;
+  for (const auto& [len, a, b] : edges)
+    if (node_alive[static_cast<std::size_t>(a)] && node_alive[static_cast<std::size_t>(b)] &&
+        !edge_tris(a, b).empty())
+      any |= try_collapse(a, b);
+  return any;
+}
+
+// Swap of the edge k of t (corners k, k+1) with the opposite triangle: accepted when the
+// worst Q of the two falls below `limit` and below theirs, the two are nearly coplanar
+// (a swap across a crease would cut the solid) and the new ones meet the chordal
+// tolerance. A smooth model edge under it is dissolved; a sharp one is never swapped.
+bool Simplifier::try_flip(int t, int k, double limit) {
+  const Tri v = T(t);
+  const NodeId b = v[k], c = v[(k + 1) % 3], a = v[(k + 2) % 3];
+  const int s = segment(b, c);
+  if (s >= 0 && (M.segments[static_cast<std::size_t>(s)].edge < 0 ||
+                 sharp[static_cast<std::size_t>(M.segments[static_cast<std::size_t>(s)].edge)]))
+    return false;
+  const auto on = edge_tris(b, c);
+  if (on.size() != 2) return false;
+  const int t2 = on[0] == t ? on[1] : on[0];
+  const Tri& w = T(t2);
+  NodeId d = -1;
+  for (NodeId x : w)
+    if (x != b && x != c) d = x;
+  if (d < 0 || d == a || !edge_tris(a, d).empty()) return false;
+  const Vec3 n0 = unit_normal(P(b), P(c), P(a)), n1 = unit_normal(P(c), P(b), P(d));
+  if (glm::dot(n0, n1) < std::cos(in.feature_angle)) return false;
+  const double old_worst = std::max(Q(t), Q(t2));
+  NewTri x, y;
+  x.slot = t, y.slot = t2;
+  x.v = {a, b, d}, y.v = {d, c, a};
+  const double nw = std::max(shape(P(a), P(b), P(d)), shape(P(d), P(c), P(a)));
+  if (!(nw < old_worst) || !(nw < limit)) return false;
+  for (const NewTri* nt : {&x, &y}) {
+    const Vec3 n = unit_normal(P(nt->v[0]), P(nt->v[1]), P(nt->v[2]));
+    if (glm::dot(n, n0) < kMaxTurn || glm::dot(n, n1) < kMaxTurn) return false;
+  }
+  // (u,v) hints: the corners' (u,v) in t, or in t2 for d.
+  auto uv_in = [&](int tri, NodeId n) {
+    const Tri& q = T(tri);
+    const int i = q[0] == n ? 0 : (q[1] == n ? 1 : 2);
+    return M.triangle_uv[static_cast<std::size_t>(tri)][static_cast<std::size_t>(i)];
+  };
+  const Vec2 ud =
+      M.triangle_face[static_cast<std::size_t>(t)] == M.triangle_face[static_cast<std::size_t>(t2)]
+          ? uv_in(t2, d)
+          : uv_in(t, a);
+  if (!place(x, M.triangle_face[static_cast<std::size_t>(t)], {uv_in(t, a), uv_in(t, b), ud}) ||
+      !place(y, M.triangle_face[static_cast<std::size_t>(t)], {ud, uv_in(t, c), uv_in(t, a)}))
+    return false;
+  if (s >= 0) dissolve(M.segments[static_cast<std::size_t>(s)].edge);
+  write(x);
+  write(y);
+  return true;
+}
+
+// Golden-section search of the parameter in [lo, hi] of the edge's curve nearest x (one
+// minimum there: the interval is a segment of the 1D mesh or of a sampling).
+double nearest_on(const geom::Edge& E, const Vec3& x, double lo, double hi) {
+  auto d = [&](double t) { return glm::length(E.curve->point(t) - x); };
+  for (int i = 0; i < 60; ++i) {
+    const double m1 = lo + (hi - lo) * 0.381966, m2 = hi - (hi - lo) * 0.381966;
+    if (d(m1) < d(m2))
+      hi = m2;
+    else
+      lo = m1;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Parameter of the point of the edge's curve nearest x: the best of 64 samples, refined
+// by golden-section search between its neighbours (a node another edge gave this one).
+double closest_param(const geom::Edge& E, const Vec3& x) {
+  const int n = 64;
+  auto d = [&](double t) { return glm::length(E.curve->point(t) - x); };
+  int best = 0;
+  for (int i = 1; i <= n; ++i)
+    if (d(E.range.at(double(i) / n)) < d(E.range.at(double(best) / n))) best = i;
+  double lo = E.range.at(std::max(0, best - 1) / double(n)),
+         hi = E.range.at(std::min(n, best + 1) / double(n));
+  return nearest_on(E, x, lo, hi);
+}
+
+// Parameter of node n on edge e's curve (a model vertex: the end nearest `hint`).
+double Simplifier::node_param(NodeId n, geom::Id e, double hint) const {
+  const geom::Edge& E = m.edges[static_cast<std::size_t>(e)];
+  if (dim(n) == 1 && ent(n) == e) return M.point_t[static_cast<std::size_t>(n)];
+  if (dim(n) == 1) return closest_param(E, P(n));
+  const double dl = glm::length(E.curve->point(E.range.lo) - P(n)),
+               dh = glm::length(E.curve->point(E.range.hi) - P(n));
+  if (std::abs(dl - dh) > 1e-12 * (1 + dl + dh)) return dl < dh ? E.range.lo : E.range.hi;
+  return std::abs(hint - E.range.lo) < std::abs(hint - E.range.hi) ? E.range.lo : E.range.hi;
+}
+
+NodeId Simplifier::add_edge_node(geom::Id e, double t) {
+  const auto n = static_cast<NodeId>(M.points.size());
+  M.points.push_back(m.edges[static_cast<std::size_t>(e)].curve->point(t));
+  M.point_dim.push_back(1);
+  M.point_entity.push_back(e);
+  M.point_t.push_back(t);
+  node_alive.push_back(1);
+  vtris.emplace_back();
+  nsegs.emplace_back();
+  return n;
+}
+
+// A cap whose long edge lies on a sharp model edge: the edge split at the point of its
+// curve nearest the apex, then the apex collapsed onto it when it may be.
+bool Simplifier::try_split(int t, int k) {
+  const Tri v = T(t);
+  const NodeId b = v[k], c = v[(k + 1) % 3], a = v[(k + 2) % 3];
+  const int s = segment(b, c);
+  if (s < 0) return false;
+  const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
+  const geom::Edge& E = m.edges[static_cast<std::size_t>(e)];
+  const auto on = edge_tris(b, c);
+  if (!E.curve || on.size() > 2) return false;
+  double t0 = node_param(b, e, dim(c) == 1 ? M.point_t[static_cast<std::size_t>(c)] : E.range.lo);
+  double t1 = node_param(c, e, t0);
+  const double tm = nearest_on(E, P(a), std::min(t0, t1), std::max(t0, t1));
+  const double span = std::abs(t1 - t0);
+  if (!(std::abs(tm - t0) > 0.05 * span && std::abs(tm - t1) > 0.05 * span)) return false;
+  const Vec3 x = E.curve->point(tm);
+  double old_worst = 0, new_worst = 0;
+  std::vector<NewTri> nts;
+  for (int tri : on) {
+    const Tri q = T(tri);
+    const int i = q[0] == b && q[1] == c
+                      ? 0
+                      : (q[1] == b && q[2] == c ? 1 : (q[2] == b && q[0] == c ? 2 : -1));
+    const int j = i >= 0 ? i : (q[0] == c && q[1] == b ? 0 : (q[1] == c && q[2] == b ? 1 : 2));
+    const NodeId p0 = q[j], p1 = q[(j + 1) % 3], p2 = q[(j + 2) % 3];
+    old_worst = std::max(old_worst, Q(tri));
+    new_worst = std::max({new_worst, shape(P(p0), x, P(p2)), shape(x, P(p1), P(p2))});
+    NewTri h0, h1;
+    h0.slot = tri;
+    h0.v = {p0, -1, p2}, h1.v = {-1, p1, p2};
+    const TriUV& uv = M.triangle_uv[static_cast<std::size_t>(tri)];
+    const Vec2 mid =
+        0.5 * (uv[static_cast<std::size_t>(j)] + uv[static_cast<std::size_t>((j + 1) % 3)]);
+    h0.face = h1.face = M.triangle_face[static_cast<std::size_t>(tri)];
+    const Vec2 um = project(h0.face, x, mid, glm::length(P(p1) - P(p0))).uv;
+    h0.uv = {uv[static_cast<std::size_t>(j)], um, uv[static_cast<std::size_t>((j + 2) % 3)]};
+    h1.uv = {um, uv[static_cast<std::size_t>((j + 1) % 3)],
+             uv[static_cast<std::size_t>((j + 2) % 3)]};
+    nts.push_back(h0);
+    nts.push_back(h1);
+  }
+  if (!(new_worst < old_worst)) return false;
+  const NodeId n = add_edge_node(e, tm);
+  for (NewTri& nt : nts) {
+    for (NodeId& w : nt.v)
+      if (w < 0) w = n;
+    write(nt);
+  }
+  auto& g = M.segments[static_cast<std::size_t>(s)];
+  const NodeId gb = g.b;
+  g.b = n;
+  nsegs[static_cast<std::size_t>(n)].push_back(s);
+  std::erase(nsegs[static_cast<std::size_t>(gb)], s);
+  M.segments.push_back({n, gb, e});
+  seg_alive.push_back(1);
+  const int s2 = static_cast<int>(M.segments.size()) - 1;
+  nsegs[static_cast<std::size_t>(n)].push_back(s2);
+  nsegs[static_cast<std::size_t>(gb)].push_back(s2);
+  eseg[static_cast<std::size_t>(e)].push_back(s2);
+  if (glm::length(P(a) - x) <= std::max(in.chordal_tol, in.feature_size)) try_collapse(a, n);
+  return true;
+}
+
+// Triangles still poor after the collapses: swaps of their edges, longest first; caps on
+// a sharp edge split.
+bool Simplifier::repair_pass(const std::vector<int>& cand) {
+  std::vector<std::pair<double, int>> bad;
+  for (int t : cand)
+    if (tri_alive[static_cast<std::size_t>(t)] && Q(t) > kPoorShape) bad.emplace_back(-Q(t), t);
+  std::sort(bad.begin(), bad.end());
+  bool any = false;
+  for (const auto& [negq, t] : bad) {
+    if (!tri_alive[static_cast<std::size_t>(t)] || Q(t) <= kPoorShape) continue;
+    const Tri v = T(t);
+    std::array<std::pair<double, int>, 3> ks;
+    for (int k = 0; k < 3; ++k) ks[k] = {-glm::length(P(v[(k + 1) % 3]) - P(v[k])), k};
+    std::sort(ks.begin(), ks.end());
+    bool done = false;
+    for (const auto& [nl, k] : ks)
+      if (!done) done = try_flip(t, k, Q(t));
+    if (!done && Q(t) > kBadShape) done = try_split(t, ks[0].second);
+    any |= done;
+  }
+  return any;
+}
+
+void Simplifier::run() {
+  init();
+  std::vector<double> area0(m.faces.size(), 0.0);
+  std::vector<int> cand;
+  for (std::size_t t = 0; t < M.triangles.size(); ++t) {
+    const Tri& v = M.triangles[t];
+    area0[static_cast<std::size_t>(M.triangle_face[t])] +=
+        0.5 * glm::length(glm::cross(P(v[1]) - P(v[0]), P(v[2]) - P(v[0])));
+    double shortest = kInf;
+    for (int k = 0; k < 3; ++k)
+      shortest = std::min(shortest, glm::length(P(v[(k + 1) % 3]) - P(v[k])));
+    if (shortest < in.feature_size || Q(static_cast<int>(t)) > kPoorShape)
+      cand.push_back(static_cast<int>(t));
+  }
+  for (int round = 0; round < kRounds && !cand.empty(); ++round) {
+    touched.clear();
+    collapse_pass(cand);
+    std::vector<int> next = touched;
+    for (int t : cand) next.push_back(t);
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    // The next round looks at what either pass made, nothing else.
+    repair_pass(next);
+    cand.assign(touched.begin(), touched.end());
+    std::sort(cand.begin(), cand.end());
+    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+  }
+  if (changed) finish(area0);
+}
+
+void Simplifier::finish(const std::vector<double>& area0) {
+  std::vector<char> has_tri(m.faces.size(), 0), has_seg(m.edges.size(), 0),
+      logged(m.edges.size(), 0);
+  for (std::size_t t = 0; t < M.triangles.size(); ++t)
+    if (tri_alive[t]) has_tri[static_cast<std::size_t>(M.triangle_face[t])] = 1;
+  for (std::size_t s = 0; s < M.segments.size(); ++s)
+    if (seg_alive[s] && M.segments[s].edge >= 0)
+      has_seg[static_cast<std::size_t>(M.segments[s].edge)] = 1;
+  for (const Simplification& r : log)
+    for (geom::Id e : r.edges) logged[static_cast<std::size_t>(e)] = 1;
+  for (std::size_t e = 0; e < m.edges.size(); ++e)
+    if (!eseg[e].empty() && !has_seg[e] && !logged[e]) {
+      Simplification r;
+      r.what = "edge collapsed to a vertex";
+      r.edges = {static_cast<geom::Id>(e)};
+      r.vertices = {m.edges[e].v0, m.edges[e].v1};
+      r.size = m.edges[e].length;
+      r.why = "its nodes merged with those of shorter edges around it (length " + fmt(r.size) + ")";
+      log.push_back(std::move(r));
+    }
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    if (!(area0[f] > 0) || has_tri[f]) continue;
+    double perimeter = 0;
+    for (const geom::Loop& l : m.faces[f].loops)
+      for (const geom::EdgeUse& u : l.uses)
+        perimeter += m.edges[static_cast<std::size_t>(u.edge)].length;
+    Simplification r;
+    r.what = "face absorbed";
+    r.faces = {static_cast<geom::Id>(f)};
+    r.size = perimeter > 0 ? 2 * area0[f] / perimeter : 0.0;
+    r.why = "width " + fmt(r.size) + " (twice its area over its perimeter) against feature size " +
+            fmt(in.feature_size);
+    log.push_back(std::move(r));
+  }
+  compact();
+}
+
+// Dead triangles, segments and nodes dropped; the order of surface_mesh.h kept: vertex
+// nodes, edge nodes by edge and parameter, face nodes by face; triangles and segments
+// by face and edge (stable: the order they had within one).
+void Simplifier::compact() {
+  const std::size_t nn = M.points.size();
+  std::vector<char> used(nn, 0);
+  for (std::size_t t = 0; t < M.triangles.size(); ++t)
+    if (tri_alive[t])
+      for (NodeId v : M.triangles[t]) used[static_cast<std::size_t>(v)] = 1;
+  for (std::size_t s = 0; s < M.segments.size(); ++s)
+    if (seg_alive[s])
+      used[static_cast<std::size_t>(M.segments[s].a)] =
+          used[static_cast<std::size_t>(M.segments[s].b)] = 1;
+  std::vector<NodeId> order;
+  for (std::size_t i = 0; i < nn; ++i)
+    if (used[i]) order.push_back(static_cast<NodeId>(i));
+  std::stable_sort(order.begin(), order.end(), [&](NodeId x, NodeId y) {
+    const auto kx =
+        std::make_tuple(dim(x), ent(x), dim(x) == 1 ? M.point_t[static_cast<std::size_t>(x)] : 0.0);
+    const auto ky =
+        std::make_tuple(dim(y), ent(y), dim(y) == 1 ? M.point_t[static_cast<std::size_t>(y)] : 0.0);
+    return kx < ky;
+  });
+  std::vector<NodeId> nid(nn, -1);
+  SurfaceMesh out;
+  for (NodeId o : order) {
+    nid[static_cast<std::size_t>(o)] = static_cast<NodeId>(out.points.size());
+    out.points.push_back(P(o));
+    out.point_dim.push_back(static_cast<std::int8_t>(dim(o)));
+    out.point_entity.push_back(ent(o));
+    out.point_t.push_back(M.point_t[static_cast<std::size_t>(o)]);
+  }
+  std::vector<int> tris;
+  for (std::size_t t = 0; t < M.triangles.size(); ++t)
+    if (tri_alive[t]) tris.push_back(static_cast<int>(t));
+  std::stable_sort(tris.begin(), tris.end(), [&](int x, int y) {
+    return M.triangle_face[static_cast<std::size_t>(x)] <
+           M.triangle_face[static_cast<std::size_t>(y)];
+  });
+  for (int t : tris) {
+    Tri v = T(t);
+    for (NodeId& x : v) x = nid[static_cast<std::size_t>(x)];
+    out.triangles.push_back(v);
+    out.triangle_face.push_back(M.triangle_face[static_cast<std::size_t>(t)]);
+    out.triangle_uv.push_back(M.triangle_uv[static_cast<std::size_t>(t)]);
+  }
+  std::vector<std::pair<std::pair<geom::Id, double>, int>> segs;
+  for (std::size_t s = 0; s < M.segments.size(); ++s) {
+    if (!seg_alive[s]) continue;
+    const auto& g = M.segments[s];
+    double key = 0;
+    if (g.edge >= 0 && m.edges[static_cast<std::size_t>(g.edge)].curve) {
+      const double ta =
+          node_param(g.a, g.edge, dim(g.b) == 1 ? M.point_t[static_cast<std::size_t>(g.b)] : 0.0);
+      key = ta + node_param(g.b, g.edge, ta);
+    }
+    segs.push_back({{g.edge, key}, static_cast<int>(s)});
+  }
+  std::stable_sort(segs.begin(), segs.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (const auto& [k, s] : segs) {
+    auto g = M.segments[static_cast<std::size_t>(s)];
+    g.a = nid[static_cast<std::size_t>(g.a)], g.b = nid[static_cast<std::size_t>(g.b)];
+    out.segments.push_back(g);
+  }
+  M = std::move(out);
+}
+
+}  // namespace
+
+std::vector<Simplification> simplify_mesh(const SimplifyInput& in, SurfaceMesh& mesh) {
+  if (!(in.feature_size > 0) || mesh.triangles.empty()) return {};
+  Simplifier s(in, mesh);
+  s.run();
+  return std::move(s.log);
+}
+
+void simplify(ModelRun& run) {
+  const double L = feature_size(run.opt, run.m.bbox.diagonal());
+  const SimplifyInput in{run.m, L, run.spec.chordal_tol, run.opt.feature_angle};
+  auto log = simplify_mesh(in, run.res.mesh);
+  for (auto& r : log) run.res.simplified.push_back(std::move(r));
+}
+
+}  // namespace uvmesh::surface::detail

@@ -1,0 +1,43 @@
+// The simplification stage (simplify3d.cpp): the stitched mesh cleared of the triangles
+// that CAD artefacts smaller than the feature size L force on it (issue 21 of the
+// project: edges of a micrometre, faces narrower than the size, gaps between two parts
+// of a face's boundary). Not installed.
+//
+//   SimplifyInput in{model, L, chordal_tol, feature_angle};
+//   std::vector<Simplification> log = simplify_mesh(in, mesh);
+//
+// Every vertex stays where it is, on its model entity; the mesh only loses vertices
+// (edge collapses), changes diagonals (3D edge swaps) or gains vertices on model edges
+// (splits at a point of the curve). A model edge is sharp (kept as a chain of segments)
+// when its faces meet at a dihedral angle of at least the feature angle, it is free or
+// non-manifold, it separates two solids or two differently named faces, or it is a seam;
+// any other edge is smooth and is dissolved (its segments dropped, its nodes classified
+// on one of its faces) when an operation needs to cross it.
+#pragma once
+
+#include <vector>
+
+#include "uvmesh/geom/model.h"
+#include "uvmesh/surface/mesher.h"
+#include "uvmesh/surface/surface_mesh.h"
+
+namespace uvmesh::surface::detail {
+
+struct SimplifyInput {
+  const geom::Model& model;
+  double feature_size = 0;   ///< L; 0: the stage does nothing
+  double chordal_tol = 0;    ///< new triangles' centroids within it of their face; 0: unchecked
+  double feature_angle = 0;  ///< radians
+};
+
+/// Above this shape quality a triangle is a needle or a cap the stage removes.
+inline constexpr double kBadShape = 10.0;
+/// Above this one it tries swaps and needle collapses that strictly improve the worst Q.
+inline constexpr double kPoorShape = 3.0;
+
+/// Simplifies `mesh` in place (deterministically: candidates in sorted order) and returns
+/// what it absorbed, in the order it was done. Leaves the mesh untouched when there is
+/// nothing to do.
+std::vector<Simplification> simplify_mesh(const SimplifyInput& in, SurfaceMesh& mesh);
+
+}  // namespace uvmesh::surface::detail
