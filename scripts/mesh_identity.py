@@ -50,7 +50,7 @@ def run_one(exe, sub, path, keep, flags):
             continue
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(keep or tmp, name + "." + tag + ".msh")
-            r = subprocess.run([exe, "mesh", path, "-o", out, "--threads", "1"] + extra,
+            r = subprocess.run([exe, "mesh", path, "-o", out, "--threads", "1"] + extra + flags,
                                capture_output=True, text=True)
             digest = "missing"
             if os.path.exists(out):
