@@ -310,7 +310,7 @@ int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::Me
                {"angle_deg", o.size.angle_tol * 180.0 / std::numbers::pi},
                {"gradation", o.size.gradation},
                {"isotropic", o.size.isotropic},
-               {"min_feature", surface::feature_size(o, D)},
+               {"min_feature", surface::feature_size(o, model.bbox)},
                {"feature_angle_deg", o.feature_angle * 180.0 / std::numbers::pi},
                {"keep_topology", o.keep_topology}};
   j["counts"]["faces"] = model.faces.size();

@@ -93,7 +93,7 @@ void add_use_points(const FaceInput& job, const geom::EdgeUse& use, FacePslg& ps
 // segment's length, as before feature sizes.
 void close_loop(const FaceInput& job, m2d::VertId start, m2d::VertId end, double seg_floor,
                 FacePslg& pslg) {
-  const bool by_edge = feature_size(job.opt, job.m.bbox.diagonal()) > 0;
+  const bool by_edge = feature_size(job.opt, job.m.bbox) > 0;
   for (m2d::VertId i = start; i < end; ++i) {
     const m2d::VertId j = i + 1 < end ? i + 1 : start;
     // Marker edge id + 1; negative on a pole's collapsed side, which must not impose
@@ -194,7 +194,7 @@ bool face_has_pole(const geom::Model& m, const geom::Face& f) {
 
 bool build_face_pslg(const FaceInput& job, FacePslg& pslg, std::string& error) {
   const double D = job.m.bbox.diagonal();
-  const double seg_floor = proximity_floor(job.opt.size, D, feature_size(job.opt, D));
+  const double seg_floor = proximity_floor(job.opt.size, D, feature_size(job.opt, job.m.bbox));
   for (const geom::Loop& loop : job.f.loops) {
     const auto start = static_cast<m2d::VertId>(pslg.in.points.size());
     const std::size_t span_lo = pslg.spans.size();

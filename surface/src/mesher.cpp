@@ -4,6 +4,7 @@
 // checks and the list of steps.
 #include "uvmesh/surface/mesher.h"
 
+#include <algorithm>
 #include <numbers>
 #include <sstream>
 
@@ -39,10 +40,19 @@ param::SizeSpec meshing_size(const MeshOptions& opt) {
   return spec;
 }
 
-double feature_size(const MeshOptions& opt, double diagonal) {
+double feature_size(const MeshOptions& opt, const geom::Box3& bbox) {
   if (opt.keep_topology) return 0.0;
   if (opt.min_feature > 0) return opt.min_feature;
-  return opt.size.hmin > 0 ? opt.size.hmin : 1e-3 * diagonal;
+  const double D = bbox.empty() || !(bbox.diagonal() > 0) ? 1.0 : bbox.diagonal();
+  const double hmin = opt.size.hmin > 0 ? opt.size.hmin : 1e-3 * D;
+  // The model's thinnest extent (its box's smallest side; the next one for a planar
+  // model) bounds the scale of its shape: on a slender part, D/1000 is a large share of
+  // its cross-section, and the holes and fillets across it are features, not artefacts.
+  if (bbox.empty()) return hmin;
+  double e[3] = {bbox.hi.x - bbox.lo.x, bbox.hi.y - bbox.lo.y, bbox.hi.z - bbox.lo.z};
+  std::sort(e, e + 3);
+  const double thin = e[0] > 1e-9 * D ? e[0] : e[1];
+  return std::min(hmin, thin / kFeatureShare);
 }
 
 double MeshResult::unit_edge_share() const {
@@ -59,7 +69,7 @@ ModelRun::ModelRun(const geom::Model& model, const MeshOptions& options)
       nf(model.faces.size()),
       ne(model.edges.size()),
       nv(model.vertices.size()),
-      feature(feature_size(options, model.bbox.diagonal() > 0 ? model.bbox.diagonal() : 1.0)),
+      feature(feature_size(options, model.bbox)),
       arena(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()),
       spec(res.size),
       face_error(nf),

@@ -51,7 +51,7 @@ struct ModelRun {
   const geom::Model& m;
   const MeshOptions& opt;
   const std::size_t nf, ne, nv;  ///< faces, edges, vertices of m
-  /// The feature size L (feature_size(opt, D); 0 under keep_topology).
+  /// The feature size L (feature_size(opt, m.bbox); 0 under keep_topology).
   const double feature;
   tbb::task_arena arena;
   MeshResult res;               ///< res.size: the sizes elements are made for (meshing_size(opt))

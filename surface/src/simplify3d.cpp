@@ -69,6 +69,7 @@ struct Simplifier {
   std::vector<std::vector<int>> vtris, nsegs, eseg;
   std::vector<std::vector<geom::Id>> efaces;
   std::vector<char> sharp, dissolved;
+  std::vector<char> free_edge;   ///< per model edge: used by one face once (a sheet's border)
   std::vector<double> dihedral;  ///< per model edge, degrees (max along it)
   std::vector<int> touched;
   bool changed = false;
@@ -221,6 +222,14 @@ void Simplifier::classify_edges() {
   const std::size_t ne = m.edges.size();
   sharp.assign(ne, 1);
   dissolved.assign(ne, 0);
+  std::vector<int> uses(ne, 0);
+  for (const geom::Face& face : m.faces)
+    for (const geom::Loop& l : face.loops)
+      for (const geom::EdgeUse& u : l.uses)
+        if (u.edge >= 0 && static_cast<std::size_t>(u.edge) < ne)
+          ++uses[static_cast<std::size_t>(u.edge)];
+  free_edge.assign(ne, 0);
+  for (std::size_t e = 0; e < ne; ++e) free_edge[e] = uses[e] == 1;
   dihedral.assign(ne, 180.0);
   std::vector<geom::Id> solid_of_shell(m.shells.size(), geom::kNone);
   for (std::size_t s = 0; s < m.solids.size(); ++s)
@@ -307,8 +316,14 @@ bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
     if (s >= 0 && M.segments[static_cast<std::size_t>(s)].edge == ent(a)) return true;
     // Two sharp edges closer than L (the two sides of a sliver face): one gives its
     // nodes to the other.
-    if (sharp[static_cast<std::size_t>(ent(a))])
+    // Not two free edges: their gap is a sheet's own width, which nothing absorbs (the
+    // size field resolves it, boundary_caps.cpp).
+    if (sharp[static_cast<std::size_t>(ent(a))]) {
+      if (free_edge[static_cast<std::size_t>(ent(a))] && dim(b) == 1 &&
+          free_edge[static_cast<std::size_t>(ent(b))])
+        return false;
       return rank(b) >= 2 && glm::length(P(a) - P(b)) < in.feature_size;
+    }
     dissolve = true;
   }
   return true;
@@ -826,7 +841,11 @@ std::vector<Simplification> simplify_mesh(const SimplifyInput& in, SurfaceMesh& 
 }
 
 void simplify(ModelRun& run) {
-  const double L = feature_size(run.opt, run.m.bbox.diagonal());
+  // Entities shorter than half the feature size are collapsed. Between half and the whole
+  // of it they set no size but are kept: a mesh at the smallest size hmin (= L by
+  // default) has unit edges down to hmin / sqrt2, which are the user's elements, not
+  // artefacts, and a sliver face half as wide as its elements are long is fairly shaped.
+  const double L = 0.5 * feature_size(run.opt, run.m.bbox);
   const SimplifyInput in{run.m, L, run.spec.chordal_tol, run.opt.feature_angle};
   auto log = simplify_mesh(in, run.res.mesh);
   for (auto& r : log) run.res.simplified.push_back(std::move(r));

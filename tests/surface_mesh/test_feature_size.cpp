@@ -53,8 +53,8 @@ TEST_CASE("feature size: a 1 um step between two boxes does not grade the mesh d
           "[surface][feature]") {
   const geom::Model m = stepped_boxes(1e-3);
   const surface::MeshOptions keep = options(m, true), feat = options(m, false);
-  REQUIRE(surface::feature_size(feat, m.bbox.diagonal()) > 1e-3);
-  REQUIRE(surface::feature_size(keep, m.bbox.diagonal()) == 0);
+  REQUIRE(surface::feature_size(feat, m.bbox) > 1e-3);
+  REQUIRE(surface::feature_size(keep, m.bbox) == 0);
   const surface::MeshResult rk = surface::mesh_model(m, keep);
   const surface::MeshResult rf = surface::mesh_model(m, feat);
   REQUIRE(rk.failed.empty());
@@ -74,7 +74,7 @@ TEST_CASE("feature size: an open sheet narrower than it is still resolved (nothi
   const TopoDS_Shape sheet = BRepBuilderAPI_MakeFace(gp_Pln(), 0, 10, 0, 0.005).Shape();
   const geom::Model m = geom::model_from_occ(sheet, {});
   const surface::MeshOptions o = options(m, false);
-  REQUIRE(surface::feature_size(o, m.bbox.diagonal()) > 0.005);
+  REQUIRE(surface::feature_size(o, m.bbox) > 0.005);
   const surface::MeshResult r = surface::mesh_model(m, o);
   REQUIRE(r.failed.empty());
   const surface::QualityReport q = surface::measure_quality(r.mesh);

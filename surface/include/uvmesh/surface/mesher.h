@@ -99,9 +99,13 @@ double gap_tolerance(const geom::Model& m, geom::Id edge);
 /// kGapToleranceFactor * gap_tolerance(e) for every edge e: measure_quality's edge_gap.
 std::vector<double> edge_gap_floors(const geom::Model& m);
 
+/// Share of the model's thinnest extent below which an entity may be an artefact: the
+/// default feature size is at most that extent / kFeatureShare.
+inline constexpr double kFeatureShare = 50.0;
 /// The feature size L of a run: opt.min_feature, else the smallest size hmin (D/1000
-/// when unset, as default_size()); 0 under keep_topology.
-double feature_size(const MeshOptions& opt, double diagonal);
+/// when unset, as default_size()) but no more than the model box's thinnest side /
+/// kFeatureShare; 0 under keep_topology.
+double feature_size(const MeshOptions& opt, const geom::Box3& bbox);
 
 struct FaceFailure {
   geom::Id face = geom::kNone;
