@@ -388,14 +388,27 @@ struct ShapeNames {
 // rescaling, which would round every coordinate and leave tolerances in the wrong unit).
 // OCCT 7.6 ignores Interface_Static "xstep.cascade.unit" in these readers (checked: a STEP
 // file in cm still comes out in mm with it set to CM).
+// OCC's STEP parser takes a UTF-8 byte-order mark for the start of a token and rejects
+// the file; ISO 10303-21 text is ASCII, and the mark is an editor's, so a file that begins
+// with one is read from memory without it (never through a temporary file).
+IFSelect_ReturnStatus read_step(STEPControl_Reader& reader, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char bom[3] = {0, 0, 0};
+  in.read(bom, 3);
+  if (!(in.gcount() == 3 && bom[0] == '\xEF' && bom[1] == '\xBB' && bom[2] == '\xBF'))
+    return reader.ReadFile(path.c_str());
+  std::stringstream rest;
+  rest << in.rdbuf();
+  return reader.ReadStream(path.c_str(), rest);
+}
+
 std::string read_shape(const std::string& path, CadFormat fmt, const std::string& requested,
                        TopoDS_Shape& shape, ReadReport& rep, std::string& units,
                        ShapeNames& shape_names) {
   rep.format = std::string(to_string(fmt));
   if (fmt == CadFormat::Step) {
     STEPControl_Reader reader;
-    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
-      return "the STEP reader rejected the file";
+    if (read_step(reader, path) != IFSelect_RetDone) return "the STEP reader rejected the file";
     TColStd_SequenceOfAsciiString lu, au, su;
     reader.FileUnits(lu, au, su);
     std::vector<std::string> names;  // distinct length units of the shape representations

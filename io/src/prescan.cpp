@@ -393,9 +393,32 @@ CadFormat format_from_extension(const std::string& path) {
   return CadFormat::Unknown;
 }
 
+namespace {
+
+// Where a STEP file's first token starts: after a UTF-8 byte-order mark, and after the
+// whitespace and comments ISO 10303-21 allows before it (a comment may stand wherever
+// whitespace may). npos when the text ends first or inside a comment.
+std::size_t step_text_start(std::string_view t) {
+  std::size_t i = t.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  while (i < t.size()) {
+    if (t[i] == ' ' || t[i] == '\t' || t[i] == '\r' || t[i] == '\n') {
+      ++i;
+    } else if (t.substr(i, 2) == "/*") {
+      const std::size_t j = t.find("*/", i + 2);
+      if (j == std::string_view::npos) return std::string_view::npos;
+      i = j + 2;
+    } else {
+      return i;
+    }
+  }
+  return std::string_view::npos;
+}
+
+}  // namespace
+
 CadFormat sniff_format(std::string_view head) {
   head = head.substr(0, std::min<std::size_t>(head.size(), 4096));
-  const auto first = head.find_first_not_of(" \t\r\n");
+  const auto first = step_text_start(head);
   if (first != std::string_view::npos && head.substr(first).rfind("ISO-10303-21", 0) == 0)
     return CadFormat::Step;
   if (head.find("CASCADE Topology V") != std::string_view::npos) return CadFormat::Brep;

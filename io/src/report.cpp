@@ -370,36 +370,40 @@ CheckData check_mesh(const SurfaceMesh& m, const geom::Model* model, const Check
   return d;
 }
 
-nlohmann::json report_json(const CheckData& d) {
-  nlohmann::json j;
-  j["counts"] = {{"points", d.points}, {"triangles", d.triangles}, {"segments", d.segments}};
-  const surface::QualityReport& q = d.quality;
-  j["quality"] = {{"share_Q_lt_1_5", q.share_Q_lt_1_5},
-                  {"share_Q_lt_2", q.share_Q_lt_2},
-                  {"share_Q_lt_3", q.share_Q_lt_3},
-                  {"flat", q.flat},
-                  {"q_min", q.q_min},
-                  {"q_p1", q.q_p1},
-                  {"q_p5", q.q_p5},
-                  {"q_p50", q.q_p50},
-                  {"q_mean", q.q_mean},
-                  {"Q_p50", q.Q_p50},
-                  {"Q_p95", q.Q_p95},
-                  {"Q_p99", q.Q_p99},
-                  {"Q_max", q.Q_max},
-                  {"min_angle_deg", q.min_angle_deg},
-                  {"max_angle_deg", q.max_angle_deg},
-                  {"bad_at_corners", q.bad_at_corners},
-                  {"bad_at_acute_corners", q.bad_at_acute_corners},
-                  {"smallest_bad_corner_deg", q.smallest_corner_deg},
-                  {"Q_over_10", q.Q_over_10},
-                  {"bad_away_from_corners", q.bad_away_from_corners},
-                  {"bad_in_narrow_gaps", q.bad_in_narrow_gaps},
-                  {"widest_narrow_gap", q.widest_narrow_gap}};
+static nlohmann::json quality_json(const surface::QualityReport& q) {
+  nlohmann::json j = {{"share_Q_lt_1_5", q.share_Q_lt_1_5},
+                      {"share_Q_lt_2", q.share_Q_lt_2},
+                      {"share_Q_lt_3", q.share_Q_lt_3},
+                      {"flat", q.flat},
+                      {"q_min", q.q_min},
+                      {"q_p1", q.q_p1},
+                      {"q_p5", q.q_p5},
+                      {"q_p50", q.q_p50},
+                      {"q_mean", q.q_mean},
+                      {"Q_p50", q.Q_p50},
+                      {"Q_p95", q.Q_p95},
+                      {"Q_p99", q.Q_p99},
+                      {"Q_max", q.Q_max},
+                      {"min_angle_deg", q.min_angle_deg},
+                      {"max_angle_deg", q.max_angle_deg},
+                      {"bad_at_corners", q.bad_at_corners},
+                      {"bad_at_acute_corners", q.bad_at_acute_corners},
+                      {"smallest_bad_corner_deg", q.smallest_corner_deg},
+                      {"Q_over_10", q.Q_over_10},
+                      {"bad_away_from_corners", q.bad_away_from_corners},
+                      {"bad_in_narrow_gaps", q.bad_in_narrow_gaps},
+                      {"widest_narrow_gap", q.widest_narrow_gap}};
   nlohmann::json bad = nlohmann::json::array();
   for (const auto& b : q.bad_list)
     bad.push_back({{"triangle", b.triangle}, {"face", b.face}, {"Q", b.Q}});
-  j["quality"]["bad_list"] = bad;
+  j["bad_list"] = bad;
+  return j;
+}
+
+nlohmann::json report_json(const CheckData& d) {
+  nlohmann::json j;
+  j["counts"] = {{"points", d.points}, {"triangles", d.triangles}, {"segments", d.segments}};
+  j["quality"] = quality_json(d.quality);
 
   const surface::TopologyReport& t = d.topology;
   nlohmann::json topo = {{"edges", t.edges},

@@ -137,10 +137,11 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
       "Defaults (D = bounding-box diagonal): --hmax D/20, --hmin D/1000, --angle 18 (20 elements\n"
       "per 2 pi), --chordal D/1000, --grad 1.3, isotropic sizes. Giving --angle or --chordal\n"
       "replaces both curvature defaults (the other is then off unless also given).\n"
-      "Feature size (--min-feature, default hmin): model edges shorter, faces narrower and gaps\n"
-      "narrower than it set no size and are absorbed into their neighbours; model edges where\n"
-      "the faces meet at less than --feature-angle (default 20) may be crossed by mesh edges.\n"
-      "--keep-topology keeps every CAD entity in the mesh. --report lists each absorption.");
+      "Feature size (--features, or --min-feature L; default L: hmin, at most the model box's\n"
+      "thinnest side / 50): model edges shorter, faces narrower and gaps narrower than it set\n"
+      "no size and are absorbed into their neighbours; model edges where the faces meet at less\n"
+      "than --feature-angle (default 20) may be crossed by mesh edges. Without either every\n"
+      "CAD entity stays in the mesh (--keep-topology). --report lists each absorption.");
   add_read_flags(c, f.read);
   c->add_option("-o,--output", f.out,
                 "output mesh; the extension picks the format (" + io::known_mesh_extensions() + ")")
@@ -159,8 +160,10 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_option("--feature-angle", f.feature_angle_deg,
                 "dihedral angle in degrees below which a CAD edge is smooth (default 20)")
       ->check(CLI::Range(0.0, 180.0));
+  c->add_flag("--features", f.features,
+              "absorb CAD entities below the default feature size (see above)");
   c->add_flag("--keep-topology", f.keep_topology,
-              "every CAD edge and face stays in the mesh; nothing is absorbed");
+              "every CAD edge and face stays in the mesh; nothing is absorbed (the default)");
   c->add_option("--grad", f.grad, "gradation: neighbouring sizes differ by at most this ratio")
       ->check(CLI::Range(1.0, 100.0));
   c->add_flag("--iso", f.iso, "isotropic curvature sizes (the default)");
@@ -239,7 +242,7 @@ int size_options(const MeshFlags& f, const geom::Model& model, surface::MeshOpti
   if (f.grad > 0) o.size.gradation = f.grad;
   if (f.min_feature > 0) o.min_feature = f.min_feature;
   if (f.feature_angle_deg > 0) o.feature_angle = f.feature_angle_deg * std::numbers::pi / 180.0;
-  o.keep_topology = f.keep_topology;
+  o.keep_topology = f.keep_topology || !(f.features || f.min_feature > 0);
   if (f.aniso > 0 && !f.iso) {
     o.size.isotropic = false;
     o.size.max_anisotropy = f.aniso;

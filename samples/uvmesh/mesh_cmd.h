@@ -27,6 +27,7 @@ struct MeshFlags {
   double min_feature = 0;        ///< --min-feature; 0: hmin
   double feature_angle_deg = 0;  ///< --feature-angle; 0: MeshOptions' default
   bool keep_topology = false;
+  bool features = false;  ///< --features: absorb entities below the default feature size
   std::vector<std::string> face_size, edge_size;  ///< "ID=H"
   std::string size_file;
   bool quiet = false;

@@ -69,6 +69,43 @@ double corner_angle_of(const SurfaceMesh& m, std::size_t t,
   return best;
 }
 
+// A bad triangle away from corners spanning a gap of its face narrower than narrow_gap
+// (or than its two edges' tolerance floor): all points on model edges or vertices, width
+// (twice the area over the longest side) below the floor. Sets `width`.
+bool in_narrow_gap(const SurfaceMesh& m, std::size_t t, double narrow_gap,
+                   const std::vector<double>* edge_gap, double& width) {
+  if (!(narrow_gap > 0) || m.point_dim.empty()) return false;
+  bool gap = false;
+  bool on_edges = true;
+  for (NodeId i : m.triangles[t]) on_edges = on_edges && m.point_dim[i] <= 1 && m.point_dim[i] >= 0;
+  if (on_edges) {
+    const pred3::Tri c = corners(m, t);
+    const double area2 = glm::length(glm::cross(c[1] - c[0], c[2] - c[0]));
+    const double hmax =
+        std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
+    double floor = narrow_gap;
+    if (edge_gap && !m.point_entity.empty()) {
+      // The two distinct edges the points lie on with the largest floor between them.
+      std::array<double, 3> g{0, 0, 0};
+      std::array<geom::Id, 3> e{geom::kNone, geom::kNone, geom::kNone};
+      for (int k = 0; k < 3; ++k) {
+        const NodeId i = m.triangles[t][k];
+        if (m.point_dim[i] != 1) continue;
+        e[k] = m.point_entity[i];
+        if (e[k] >= 0 && static_cast<std::size_t>(e[k]) < edge_gap->size())
+          g[k] = (*edge_gap)[static_cast<std::size_t>(e[k])];
+      }
+      for (int a = 0; a < 3; ++a)
+        for (int b = a + 1; b < 3; ++b)
+          if (e[a] != geom::kNone && e[b] != geom::kNone && e[a] != e[b])
+            floor = std::max(floor, g[a] + g[b]);
+    }
+    width = area2 / hmax;
+    gap = area2 < floor * hmax;
+  }
+  return gap;
+}
+
 }  // namespace
 
 QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_gap,
@@ -113,38 +150,8 @@ QualityReport measure_quality(const SurfaceMesh& m, int max_list, double narrow_
       bool corner = false;
       if (!m.point_dim.empty())
         for (NodeId i : m.triangles[t]) corner = corner || m.point_dim[i] == 0;
-      bool gap = false;
       double width = 0.0;
-      if (!corner && narrow_gap > 0 && !m.point_dim.empty()) {
-        bool on_edges = true;
-        for (NodeId i : m.triangles[t])
-          on_edges = on_edges && m.point_dim[i] <= 1 && m.point_dim[i] >= 0;
-        if (on_edges) {
-          const pred3::Tri c = corners(m, t);
-          const double area2 = glm::length(glm::cross(c[1] - c[0], c[2] - c[0]));
-          const double hmax = std::max(
-              {glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
-          double floor = narrow_gap;
-          if (edge_gap && !m.point_entity.empty()) {
-            // The two distinct edges the points lie on with the largest floor between them.
-            std::array<double, 3> g{0, 0, 0};
-            std::array<geom::Id, 3> e{geom::kNone, geom::kNone, geom::kNone};
-            for (int k = 0; k < 3; ++k) {
-              const NodeId i = m.triangles[t][k];
-              if (m.point_dim[i] != 1) continue;
-              e[k] = m.point_entity[i];
-              if (e[k] >= 0 && static_cast<std::size_t>(e[k]) < edge_gap->size())
-                g[k] = (*edge_gap)[static_cast<std::size_t>(e[k])];
-            }
-            for (int a = 0; a < 3; ++a)
-              for (int b = a + 1; b < 3; ++b)
-                if (e[a] != geom::kNone && e[b] != geom::kNone && e[a] != e[b])
-                  floor = std::max(floor, g[a] + g[b]);
-          }
-          width = area2 / hmax;
-          gap = area2 < floor * hmax;
-        }
-      }
+      const bool gap = !corner && in_narrow_gap(m, t, narrow_gap, edge_gap, width);
       if (corner) {
         ++r.bad_at_corners;
         const double angle = corner_angle_of(m, t, angles);

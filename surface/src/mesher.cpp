@@ -51,7 +51,7 @@ double feature_size(const MeshOptions& opt, const geom::Box3& bbox) {
   if (bbox.empty()) return hmin;
   double e[3] = {bbox.hi.x - bbox.lo.x, bbox.hi.y - bbox.lo.y, bbox.hi.z - bbox.lo.z};
   std::sort(e, e + 3);
-  const double thin = e[0] > 1e-9 * D ? e[0] : e[1];
+  const double thin = e[0] > 1e-4 * D ? e[0] : e[1];  // a planar model: its box is flat
   return std::min(hmin, thin / kFeatureShare);
 }
 

@@ -69,11 +69,12 @@ TEST_CASE("feature size: a 1 um step between two boxes does not grade the mesh d
 
 TEST_CASE("feature size: an open sheet narrower than it is still resolved (nothing absorbs it)",
           "[surface][feature]") {
-  // A 10 x 0.005 rectangle alone: its two long free edges are closer than the default
-  // feature size (D/1000 = 0.01), but the gap is the sheet's own width.
+  // A 10 x 0.005 rectangle alone, with a feature size of 0.01: its two long free edges are
+  // closer than that, but the gap is the sheet's own width.
   const TopoDS_Shape sheet = BRepBuilderAPI_MakeFace(gp_Pln(), 0, 10, 0, 0.005).Shape();
   const geom::Model m = geom::model_from_occ(sheet, {});
-  const surface::MeshOptions o = options(m, false);
+  surface::MeshOptions o = options(m, false);
+  o.min_feature = 0.01;
   REQUIRE(surface::feature_size(o, m.bbox) > 0.005);
   const surface::MeshResult r = surface::mesh_model(m, o);
   REQUIRE(r.failed.empty());

@@ -59,8 +59,11 @@ struct MeshOptions {
   /// Dihedral angle (radians) below which a model edge is smooth: the faces on either
   /// side may be meshed as one domain, so mesh edges need not follow it.
   double feature_angle = 20.0 * 3.14159265358979323846 / 180.0;
-  /// Every model entity stays a mesh entity (the meshes of before feature sizes).
-  bool keep_topology = false;
+  /// Every model entity stays a mesh entity (the meshes of before feature sizes). The
+  /// default for now: with a feature size, some models still lose shape quality (a
+  /// slender part whose narrow faces the simplify stage cannot absorb cleanly), so it is
+  /// asked for (`--features`, `--min-feature`).
+  bool keep_topology = true;
   /// Called after each face, from the worker thread that meshed it (so it must be
   /// thread-safe): faces done so far, total faces.
   std::function<void(int, int)> progress;
