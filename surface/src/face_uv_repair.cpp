@@ -214,7 +214,7 @@ int repair_uv_boundary(const FaceInput& job, FacePslg& pslg, const std::vector<g
   std::vector<char> want(pslg.spans.size(), 0);
   // A (u,v) error that moves sigma by less than a hundredth of the narrowest gap the sizes
   // resolve (proximity_floor) changes no element that matters: left alone.
-  const double floor = kFloorShare * proximity_floor(job.opt.size, job.m.bbox.diagonal());
+  const double floor = kFloorShare * proximity_floor(job.opt.size, job.m.bbox.diagonal(), 0.0);
   for (std::size_t si = 0; si < pslg.spans.size(); ++si) {
     const geom::EdgeUse& use = *pslg.spans[si].use;
     const geom::Edge& e = job.m.edges[static_cast<std::size_t>(use.edge)];
