@@ -1,7 +1,8 @@
 // Stage 2 of mesh_model: curves and faces, repeated when a face's (u,v) boundary crossed
 // itself. The edges named are refined (their (u,v) polylines then follow the pcurves more
 // closely) and the model is meshed again -- edge nodes are shared, so every face must see
-// them. What stays unusable after the rounds gets a last try from its boundary nodes.
+// them. What stays unusable after the rounds gets a last try: in the least-squares plane
+// of its boundary (face_chart.cpp), else from its boundary nodes.
 #include <algorithm>
 #include <atomic>
 #include <set>
@@ -184,7 +185,8 @@ void retry_from_boundary(ModelRun& run) {
           "face " + std::to_string(f) +
           ": its (u,v) boundary is unusable (pcurves cross or coincide); triangulated from its " +
           std::to_string(run.fm[f].stats.boundary_nodes) +
-          " boundary nodes, within the chordal tolerance");
+          " boundary nodes, within the chordal tolerance" +
+          (run.fm[f].repair.empty() ? "" : " (" + run.fm[f].repair + ")"));
 }
 
 }  // namespace
@@ -212,10 +214,11 @@ double mesh_faces(ModelRun& run, Clock::time_point t_curves) {
   }
   const auto t0 = Clock::now();
   retry_from_boundary(run);
-  // Faces meshed after their (u,v) boundary was repaired (face_uv_repair.cpp), once each,
-  // as the last round meshed them.
+  // Faces meshed after their (u,v) boundary was repaired (face_uv_repair.cpp) or in a
+  // plane chart (face_chart.cpp), once each, as the last round meshed them (a face
+  // triangulated from its boundary said so above).
   for (std::size_t f = 0; f < run.nf; ++f)
-    if (run.fm[f].error.empty() && !run.fm[f].repair.empty())
+    if (run.fm[f].error.empty() && !run.fm[f].repair.empty() && !run.fm[f].from_boundary)
       run.res.warnings.push_back("face " + std::to_string(f) + ": " + run.fm[f].repair);
   return t_faces + seconds_since(t0);
 }

@@ -6,7 +6,8 @@
 // 3D edges -- before meshing, or where mesher2d finds two (u,v) curves crossing -- get the
 // (u,v) of their nodes' projections instead (face_uv_repair.cpp). A face whose (u,v)
 // boundary is still unusable may be triangulated from its boundary nodes
-// (face_from_boundary.cpp).
+// (face_from_boundary.cpp), but first, where the face is a graph over the least-squares
+// plane of its boundary nodes, it is meshed in that plane (face_chart.cpp).
 #include <cmath>
 #include <sstream>
 
@@ -25,10 +26,63 @@ std::string fmt_uv(const geom::Vec2& p) {
   return o.str();
 }
 
-// An unusable (u,v) boundary, on the last try (mesher.cpp): the face is triangulated
-// from its boundary nodes when that is a manifold disc within the chordal tolerance
-// (triangulate_from_boundary); else the reason is added to the failure.
+void improve_and_repair(const FaceInput& job, bool has_pole, LocalMesh& lm, FaceStats& stats);
+void count_unit_edges(const LocalMesh& lm, std::size_t nvf, const FaceMetric& metric,
+                      FaceStats& stats);
+void write_face_mesh(const LocalMesh& lm, std::size_t nvf, bool reversed, FaceMesh& out);
+
+// Triangles of lm that are not CCW in (u,v).
+int inverted_in_uv(const LocalMesh& lm) {
+  int n = 0;
+  for (const auto& t : lm.tris) {
+    const geom::Vec2 &a = lm.uv[t[0]], &b = lm.uv[t[1]], &c = lm.uv[t[2]];
+    n += !((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x) > 0);
+  }
+  return n;
+}
+
+// The plane chart (face_chart.cpp) on the last try; true: out is the face's mesh, with
+// the warning in FaceMesh::repair. The 3D improvement and the repairs move and split
+// vertices in (u,v), keeping triangles CCW there: they run only when every chart
+// triangle is CCW at the (u,v) of its corners' feet.
+bool mesh_by_chart(const FaceInput& job, const FacePslg& pslg, FaceMesh& out,
+                   const std::string& msg, std::string& why) {
+  LocalMesh lm;
+  double dev = 0;
+  if (!mesh_in_plane_chart(job, pslg, lm, dev, why)) return false;
+  FaceMesh res;
+  res.stats.face = job.fid;
+  res.stats.boundary_nodes = out.stats.boundary_nodes;
+  const bool has_pole = face_has_pole(job.m, job.f);
+  const int inverted = inverted_in_uv(lm);
+  if (inverted == 0) improve_and_repair(job, has_pole, lm, res.stats);
+  const std::size_t nvf = lm.uv.size();
+  if (inverted == 0) remove_folds(lm);
+  const FaceMetric metric(job.field, job.f, has_pole);
+  count_unit_edges(lm, nvf, metric, res.stats);
+  write_face_mesh(lm, nvf, job.f.reversed, res);
+  std::ostringstream o;
+  o.precision(3);
+  o << "its (u,v) boundary is unusable (" << msg
+    << "); meshed in a least-squares plane chart (surface normals within " << dev
+    << " degrees of the plane's normal)";
+  if (inverted > 0)
+    o << "; 3D improvement skipped (" << inverted << " triangles inverted in (u,v))";
+  res.repair = o.str();
+  out = std::move(res);
+  return true;
+}
+
+// An unusable (u,v) boundary, on the last try (mesher.cpp): the face is meshed in the
+// least-squares plane of its boundary (mesh_by_chart) or else, with one loop,
+// triangulated from its boundary nodes when that is a manifold disc within the chordal
+// tolerance (triangulate_from_boundary); else the reasons are added to the failure.
 void fail_on_uv(const FaceInput& job, const FacePslg& pslg, FaceMesh& out, std::string msg) {
+  if (job.boundary_fallback) {
+    std::string why;
+    if (mesh_by_chart(job, pslg, out, msg, why)) return;
+    msg += "; not meshed in a least-squares plane chart: " + why;
+  }
   if (job.boundary_fallback && pslg.one_loop) {
     std::vector<geom::Vec2> uv_raw(pslg.in.points.size());
     for (std::size_t i = 0; i < uv_raw.size(); ++i)
@@ -36,6 +90,7 @@ void fail_on_uv(const FaceInput& job, const FacePslg& pslg, FaceMesh& out, std::
     std::string why;
     if (triangulate_from_boundary(out, job.f, job.s, pslg.gid, uv_raw, job.node_points,
                                   job.opt.size.chordal_tol, &why)) {
+      out.repair = msg.substr(msg.find("not meshed in a least-squares plane chart"));
       out.stats.face = job.fid;
       out.error.clear();
       out.refine_at.clear();
@@ -44,7 +99,7 @@ void fail_on_uv(const FaceInput& job, const FacePslg& pslg, FaceMesh& out, std::
     msg += "; not triangulated from its boundary either: " + why;
   }
   out.error = std::move(msg);
-  out.uv_defect = pslg.one_loop;  // worth the last try (mesher.cpp) when it was not this one
+  out.uv_defect = true;  // worth the last try (mesher.cpp) when it was not this one
 }
 
 // mesher2d failed: the message names the model edges; crossing (u,v) curves also name

@@ -88,6 +88,14 @@ bool triangulate_from_boundary(FaceMesh& out, const geom::Face& f, const geom::S
                                const std::vector<geom::Vec3>& node_points, double chordal_tol,
                                std::string* why);
 
+/// Meshes the face in the least-squares plane of its boundary nodes, where its (u,v)
+/// boundary is unusable (face_chart.cpp): lm gets the local mesh (boundary vertices the
+/// global nodes, (u,v) the feet of the projections onto the surface, triangles CCW in the
+/// plane, whose normal agrees with du x dv). max_normal_deg: the largest angle between
+/// the surface normal and the plane's. False with the reason in why.
+bool mesh_in_plane_chart(const FaceInput& job, const FacePslg& pslg, LocalMesh& lm,
+                         double& max_normal_deg, std::string& why);
+
 // A face's edges -> their (triangle, opposite corner) uses, two for an interior edge:
 // records sorted by edge, then triangle and corner (the order a std::map of vectors gave,
 // without a node and a vector per edge; that map was a third of the chordal repair's time).

@@ -5,17 +5,21 @@
 // and corrupted with BRep_Builder::UpdateEdge; mesh_model must mesh every face,
 // watertight, on the surfaces, and say which face and edges it repaired and how.
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepLib.hxx>
 #include <BRepOffsetAPI_MakePipeShell.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <GC_MakeCircle.hxx>
 #include <Geom2d_BSplineCurve.hxx>
 #include <Geom2d_Line.hxx>
+#include <Geom_Circle.hxx>
 #include <Geom_CylindricalSurface.hxx>
+#include <Geom_Plane.hxx>
 #include <Geom_Surface.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
@@ -28,6 +32,7 @@
 #include <TopoDS_Solid.hxx>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <gp_Circ.hxx>
 #include <numbers>
 #include <string>
 
@@ -65,8 +70,10 @@ Handle(Geom2d_Curve)
 
 // Replaces the pcurve of edge number `ei` (TopExp map of the face's edges, from 1) on
 // face number `fi` (map of the shape's faces, from 1) by make(old pcurve, f, l).
+// tol > 0: the edge's tolerance becomes tol (a sloppy edge, within whose tolerance the
+// corrupted pcurve still lies).
 template <class Make>
-void corrupt_pcurve(const TopoDS_Shape& shape, int fi, int ei, Make&& make) {
+void corrupt_pcurve(const TopoDS_Shape& shape, int fi, int ei, Make&& make, double tol = 0) {
   TopTools_IndexedMapOfShape faces, edges;
   TopExp::MapShapes(shape, TopAbs_FACE, faces);
   const TopoDS_Face face = TopoDS::Face(faces(fi));
@@ -76,7 +83,7 @@ void corrupt_pcurve(const TopoDS_Shape& shape, int fi, int ei, Make&& make) {
   double f = 0, l = 0;
   const Handle(Geom2d_Curve) c = pcurve_of(edge, face, f, l);
   REQUIRE(!c.IsNull());
-  BRep_Builder().UpdateEdge(edge, make(c, f, l), face, BRep_Tool::Tolerance(edge));
+  BRep_Builder().UpdateEdge(edge, make(c, f, l), face, tol > 0 ? tol : BRep_Tool::Tolerance(edge));
 }
 
 struct Meshed {
@@ -96,7 +103,10 @@ Meshed mesh(const TopoDS_Shape& shape) {
 // Every face meshed, closed, on the surfaces within the chordal tolerance, and a
 // warning that names the repair.
 void check_meshed_and_repaired(const Meshed& x, const std::string& repair) {
-  for (const auto& f : x.r.failed) INFO("face " << f.face << ": " << f.reason);
+  std::string failed;
+  for (const auto& f : x.r.failed)
+    failed += "face " + std::to_string(f.face) + ": " + f.reason + "\n";
+  INFO(failed);
   REQUIRE(x.r.failed.empty());
   const surface::TopologyReport t = surface::check_topology(x.r.mesh);
   CHECK(t.free_edges == 0);
@@ -108,8 +118,9 @@ void check_meshed_and_repaired(const Meshed& x, const std::string& repair) {
   CHECK(c.max <= surface::default_size(x.m).chordal_tol);
   bool named = false;
   for (const std::string& w : x.r.warnings) named = named || w.find(repair) != std::string::npos;
-  INFO("expected a warning containing: " << repair);
-  for (const std::string& w : x.r.warnings) INFO("warning: " << w);
+  std::string warnings;
+  for (const std::string& w : x.r.warnings) warnings += "warning: " + w + "\n";
+  INFO("expected a warning containing: " << repair << "\n" << warnings);
   CHECK(named);
 }
 
@@ -241,4 +252,156 @@ TEST_CASE("pcurve repair: a spring swept along a multi-turn helix with a corrupt
   });
   const Meshed x = mesh(s);
   check_meshed_and_repaired(x, "recomputed by projecting the 3D edge nodes onto the surface");
+}
+
+// ---- Faces whose (u,v) boundary stays unusable after the repair: meshed in the
+// least-squares plane of their boundary nodes (face_chart.cpp), or refused with a reason.
+
+namespace {
+
+// The index (TopExp map, from 1) of the first edge of face fi whose 3D curve is a circle
+// (or an arc of one).
+int circle_edge(const TopoDS_Shape& shape, int fi) {
+  TopTools_IndexedMapOfShape faces, edges;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  TopExp::MapShapes(faces(fi), TopAbs_EDGE, edges);
+  for (int i = 1; i <= edges.Extent(); ++i) {
+    double f = 0, l = 0;
+    const Handle(Geom_Curve) c = BRep_Tool::Curve(TopoDS::Edge(edges(i)), f, l);
+    if (!c.IsNull() && !Handle(Geom_Circle)::DownCast(c).IsNull()) return i;
+  }
+  return 0;
+}
+
+// The face (map index) of a planar face at height z.
+int plane_face_at(const TopoDS_Shape& shape, double z) {
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  for (int i = 1; i <= faces.Extent(); ++i) {
+    const Handle(Geom_Plane) pl =
+        Handle(Geom_Plane)::DownCast(BRep_Tool::Surface(TopoDS::Face(faces(i))));
+    if (!pl.IsNull() && std::abs(pl->Location().Z() - z) < 1e-9 &&
+        std::abs(std::abs(pl->Axis().Direction().Z()) - 1) < 1e-9)
+      return i;
+  }
+  return 0;
+}
+
+bool warned(const Meshed& x, const std::string& what) {
+  for (const std::string& w : x.r.warnings)
+    if (w.find(what) != std::string::npos) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "plane chart: a planar face with a hole whose pcurve crosses the outline within "
+    "its edge's tolerance",
+    "[surface][pcurve_repair][plane_chart]") {
+  // A 10 x 10 x 2 slab with a hole of radius 2 whose wall is 0.3 from one side. On the top
+  // face the hole circle's pcurve is moved 0.5 toward that side, across the outline, and
+  // the circle's tolerance set to 0.6: the pcurve lies within the edge's tolerance, so the
+  // (u,v) repair rightly leaves it (it is not wrong by the model's own measure), splitting
+  // the crossing pieces cannot part the two (u,v) curves, and the face has two loops, so
+  // no boundary-only triangulation applies: only another chart can mesh it.
+  const double hx = 2.3, r = 2.0;
+  TopoDS_Wire outer =
+      BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(10, 0, 0)),
+                              BRepBuilderAPI_MakeEdge(gp_Pnt(10, 0, 0), gp_Pnt(10, 10, 0)),
+                              BRepBuilderAPI_MakeEdge(gp_Pnt(10, 10, 0), gp_Pnt(0, 10, 0)),
+                              BRepBuilderAPI_MakeEdge(gp_Pnt(0, 10, 0), gp_Pnt(0, 0, 0)));
+  const TopoDS_Edge ce =
+      BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp_Pnt(hx, 5, 0), gp_Dir(0, 0, 1)), r));
+  TopoDS_Wire hole = BRepBuilderAPI_MakeWire(ce);
+  hole.Reverse();
+  BRepBuilderAPI_MakeFace mf(outer, Standard_True);
+  mf.Add(hole);
+  REQUIRE(mf.IsDone());
+  const TopoDS_Shape s = BRepPrimAPI_MakePrism(mf.Face(), gp_Vec(0, 0, 2)).Shape();
+  const int top = plane_face_at(s, 2.0);
+  REQUIRE(top > 0);
+  const int circle = circle_edge(s, top);
+  REQUIRE(circle > 0);
+  {
+    const Meshed x = mesh(s);  // consistent: no chart
+    REQUIRE(x.r.failed.empty());
+    CHECK(!warned(x, "plane chart"));
+  }
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(s, TopAbs_FACE, faces);
+  const Handle(Geom_Plane) pl =
+      Handle(Geom_Plane)::DownCast(BRep_Tool::Surface(TopoDS::Face(faces(top))));
+  const gp_Vec shift(-0.5, 0, 0);  // toward the side x = 0, in (u,v) of the top plane
+  const gp_Vec2d duv(shift.Dot(gp_Vec(pl->Position().XDirection())),
+                     shift.Dot(gp_Vec(pl->Position().YDirection())));
+  corrupt_pcurve(
+      s, top, circle,
+      [&](const Handle(Geom2d_Curve) & c, double, double) {
+        return Handle(Geom2d_Curve)::DownCast(c->Translated(duv));
+      },
+      0.6);
+  const Meshed x = mesh(s);
+  check_meshed_and_repaired(x, "meshed in a least-squares plane chart (surface normals within 0");
+  CHECK(warned(x, "cross"));
+}
+
+namespace {
+
+// A cylinder sector (radius R, height h, angle a) whose bottom arc's pcurve on the side
+// is moved by `lift` in v, past the top, with the arc's tolerance set to tol (a sloppy
+// edge within whose tolerance the pcurve lies, so that the (u,v) repair leaves it).
+TopoDS_Shape sector_with_lifted_arc(double R, double h, double a, double lift, double tol) {
+  TopoDS_Shape s = BRepPrimAPI_MakeCylinder(R, h, a).Shape();
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(s, TopAbs_FACE, faces);
+  int side = 0;
+  for (int i = 1; i <= faces.Extent() && side == 0; ++i)
+    if (!Handle(Geom_CylindricalSurface)::DownCast(BRep_Tool::Surface(TopoDS::Face(faces(i))))
+             .IsNull())
+      side = i;
+  REQUIRE(side > 0);
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(faces(side), TopAbs_EDGE, edges);
+  int bottom = 0;
+  for (int i = 1; i <= edges.Extent() && bottom == 0; ++i) {
+    double f = 0, l = 0;
+    const Handle(Geom_Curve) c = BRep_Tool::Curve(TopoDS::Edge(edges(i)), f, l);
+    if (!Handle(Geom_Circle)::DownCast(c).IsNull() && std::abs(c->Value(f).Z()) < 1e-9) bottom = i;
+  }
+  REQUIRE(bottom > 0);
+  corrupt_pcurve(
+      s, side, bottom,
+      [&](const Handle(Geom2d_Curve) & c, double, double) {
+        return Handle(Geom2d_Curve)::DownCast(c->Translated(gp_Vec2d(0.0, lift)));
+      },
+      tol);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("plane chart: a slightly curved face whose pcurves cross within a sloppy tolerance",
+          "[surface][pcurve_repair][plane_chart]") {
+  // A 0.5 rad sector of a cylinder of radius 20 (the side's normal turns 14 degrees either
+  // way from the middle): the bottom arc's pcurve lifted 1.2 heights, past the top.
+  const Meshed x = mesh(sector_with_lifted_arc(20, 1, 0.5, 1.2, 1.5));
+  check_meshed_and_repaired(x, "; meshed in a least-squares plane chart (surface normals within 1");
+}
+
+TEST_CASE("plane chart: refused on most of a cylinder whose pcurves cross",
+          "[surface][pcurve_repair][plane_chart]") {
+  // A 286-degree sector, its bottom arc's pcurve lifted past the top. The side is no
+  // graph over any plane: the chart is refused, naming the normal's turn, and the last
+  // fallback (the boundary triangulation of the one-loop side) is tried as before.
+  const Meshed x = mesh(sector_with_lifted_arc(5, 2, 5.0, 2.5, 3.0));
+  std::string said;
+  for (const auto& f : x.r.failed) said += f.reason + "\n";
+  for (const std::string& w : x.r.warnings) said += w + "\n";
+  INFO(said);
+  CHECK(said.find("not meshed in a least-squares plane chart: the surface normal turns") !=
+        std::string::npos);
+  CHECK(said.find("degrees from the least-squares plane's") != std::string::npos);
+  CHECK(said.find("not triangulated from its boundary either") != std::string::npos);
+  CHECK(!warned(x, "; meshed in a least-squares plane chart"));
 }
