@@ -134,7 +134,8 @@ struct FaceMesh {
   bool from_boundary = false;
   /// Non-empty: the face's (u,v) boundary was repaired, and how (a warning of the run).
   std::string repair;
-  /// Failed on its (u,v) boundary with one loop: the boundary triangulation may apply.
+  /// Failed on its (u,v) boundary: the plane chart (face_chart.cpp) and, with one loop,
+  /// the boundary triangulation may apply.
   bool uv_defect = false;
   FaceStats stats;
 };
