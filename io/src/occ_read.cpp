@@ -47,6 +47,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -377,6 +378,18 @@ struct ShapeNames {
   }
 };
 
+// Loads a STEP file into the reader. OCCT 7.6's STEP parser rejects a file that begins with
+// a UTF-8 byte-order mark (measured: ReadFile fails, status IFSelect_RetFail); such a file
+// is parsed from a stream of the file positioned after the mark (no copy, no temp file).
+IFSelect_ReturnStatus load_step(STEPControl_Reader& reader, const std::string& path,
+                                bool utf8_bom) {
+  if (!utf8_bom) return reader.ReadFile(path.c_str());
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(3);
+  if (!in) return IFSelect_RetError;
+  return reader.ReadStream(path.c_str(), in);
+}
+
 // Reads the file into a shape, with coordinates in `units` (set here: the requested unit,
 // else the file's); sets report.format / file_units / mm_per_unit. Throws Standard_Failure
 // or returns an error message.
@@ -388,13 +401,14 @@ struct ShapeNames {
 // rescaling, which would round every coordinate and leave tolerances in the wrong unit).
 // OCCT 7.6 ignores Interface_Static "xstep.cascade.unit" in these readers (checked: a STEP
 // file in cm still comes out in mm with it set to CM).
-std::string read_shape(const std::string& path, CadFormat fmt, const std::string& requested,
-                       TopoDS_Shape& shape, ReadReport& rep, std::string& units,
-                       ShapeNames& shape_names) {
+std::string read_shape(const std::string& path, const PrescanResult& pre,
+                       const std::string& requested, TopoDS_Shape& shape, ReadReport& rep,
+                       std::string& units, ShapeNames& shape_names) {
+  const CadFormat fmt = pre.content;
   rep.format = std::string(to_string(fmt));
   if (fmt == CadFormat::Step) {
     STEPControl_Reader reader;
-    if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+    if (load_step(reader, path, pre.utf8_bom) != IFSelect_RetDone)
       return "the STEP reader rejected the file";
     TColStd_SequenceOfAsciiString lu, au, su;
     reader.FileUnits(lu, au, su);
@@ -763,7 +777,7 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
   try {
     OCC_CATCH_SIGNALS
     if (std::string e =
-            read_shape(path, pre.content, requested_units, cr.shape, res.report, units, cr.names);
+            read_shape(path, pre, requested_units, cr.shape, res.report, units, cr.names);
         !e.empty())
       return fail(e);
     res.report.read_seconds = seconds_since(t0);
