@@ -47,6 +47,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -377,6 +378,18 @@ struct ShapeNames {
   }
 };
 
+// Loads a STEP file into the reader. OCCT 7.6's STEP parser rejects a file that begins with
+// a UTF-8 byte-order mark (measured: ReadFile fails, status IFSelect_RetFail); such a file
+// is parsed from a stream of the file positioned after the mark (no copy, no temp file).
+IFSelect_ReturnStatus load_step(STEPControl_Reader& reader, const std::string& path,
+                                bool utf8_bom) {
+  if (!utf8_bom) return reader.ReadFile(path.c_str());
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(3);
+  if (!in) return IFSelect_RetError;
+  return reader.ReadStream(path.c_str(), in);
+}
+
 // Reads the file into a shape, with coordinates in `units` (set here: the requested unit,
 // else the file's); sets report.format / file_units / mm_per_unit. Throws Standard_Failure
 // or returns an error message.
@@ -388,27 +401,15 @@ struct ShapeNames {
 // rescaling, which would round every coordinate and leave tolerances in the wrong unit).
 // OCCT 7.6 ignores Interface_Static "xstep.cascade.unit" in these readers (checked: a STEP
 // file in cm still comes out in mm with it set to CM).
-// OCC's STEP parser takes a UTF-8 byte-order mark for the start of a token and rejects
-// the file; ISO 10303-21 text is ASCII, and the mark is an editor's, so a file that begins
-// with one is read from memory without it (never through a temporary file).
-IFSelect_ReturnStatus read_step(STEPControl_Reader& reader, const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char bom[3] = {0, 0, 0};
-  in.read(bom, 3);
-  if (!(in.gcount() == 3 && bom[0] == '\xEF' && bom[1] == '\xBB' && bom[2] == '\xBF'))
-    return reader.ReadFile(path.c_str());
-  std::stringstream rest;
-  rest << in.rdbuf();
-  return reader.ReadStream(path.c_str(), rest);
-}
-
-std::string read_shape(const std::string& path, CadFormat fmt, const std::string& requested,
-                       TopoDS_Shape& shape, ReadReport& rep, std::string& units,
-                       ShapeNames& shape_names) {
+std::string read_shape(const std::string& path, const PrescanResult& pre,
+                       const std::string& requested, TopoDS_Shape& shape, ReadReport& rep,
+                       std::string& units, ShapeNames& shape_names) {
+  const CadFormat fmt = pre.content;
   rep.format = std::string(to_string(fmt));
   if (fmt == CadFormat::Step) {
     STEPControl_Reader reader;
-    if (read_step(reader, path) != IFSelect_RetDone) return "the STEP reader rejected the file";
+    if (load_step(reader, path, pre.utf8_bom) != IFSelect_RetDone)
+      return "the STEP reader rejected the file";
     TColStd_SequenceOfAsciiString lu, au, su;
     reader.FileUnits(lu, au, su);
     std::vector<std::string> names;  // distinct length units of the shape representations
@@ -776,7 +777,7 @@ ReadResult read_cad(const std::string& path, const ReadOptions& opt) {
   try {
     OCC_CATCH_SIGNALS
     if (std::string e =
-            read_shape(path, pre.content, requested_units, cr.shape, res.report, units, cr.names);
+            read_shape(path, pre, requested_units, cr.shape, res.report, units, cr.names);
         !e.empty())
       return fail(e);
     res.report.read_seconds = seconds_since(t0);

@@ -58,9 +58,47 @@ std::string fmt_num(double v) {
 
 // ---------------------------------------------------------------------------- STEP
 
+// ISO 10303-21 lets a comment stand wherever whitespace may (section 5.6 of the 2016
+// edition): before the header, between and inside statements. A UTF-8 byte-order mark
+// is what Windows editors put before a file they saved; it is not part of the text.
+constexpr std::string_view kUtf8Bom = "\xEF\xBB\xBF";
+
+bool starts_with_bom(std::string_view t) {
+  return t.substr(0, kUtf8Bom.size()) == kUtf8Bom;
+}
+
+std::string_view without_bom(std::string_view t) {
+  return starts_with_bom(t) ? t.substr(kUtf8Bom.size()) : t;
+}
+
+// 1-based line of offset pos (LF or CRLF line ends).
+long line_at(std::string_view t, std::size_t pos) {
+  return 1 + static_cast<long>(std::count(t.begin(), t.begin() + std::min(pos, t.size()), '\n'));
+}
+
+// Skips whitespace and comments from i. False when a comment is never closed (i is then
+// at its "/*").
+bool skip_blank(std::string_view t, std::size_t& i) {
+  while (i < t.size()) {
+    if (std::isspace(static_cast<unsigned char>(t[i]))) {
+      ++i;
+    } else if (t.compare(i, 2, "/*") == 0) {
+      const std::size_t j = t.find("*/", i + 2);
+      if (j == std::string_view::npos) return false;
+      i = j + 2;
+    } else {
+      break;
+    }
+  }
+  return true;
+}
+
+enum class Stmt { Closed, Eof, OpenComment };
+
 // Accumulates one statement of t from i up to ';' outside strings and comments (strings
-// become a '' placeholder, line breaks are dropped); false when the text ends first.
-bool next_statement(std::string_view t, std::size_t& i, std::string& stmt) {
+// become a '' placeholder, a comment a space, line breaks are dropped). Eof when the text
+// ends first; OpenComment (i at its "/*") when a comment is never closed.
+Stmt next_statement(std::string_view t, std::size_t& i, std::string& stmt) {
   stmt.clear();
   while (i < t.size()) {
     const char c = t[i];
@@ -82,14 +120,43 @@ bool next_statement(std::string_view t, std::size_t& i, std::string& stmt) {
     }
     if (c == '/' && i + 1 < t.size() && t[i + 1] == '*') {
       const std::size_t j = t.find("*/", i + 2);
-      i = (j == std::string_view::npos) ? t.size() : j + 2;
+      if (j == std::string_view::npos) return Stmt::OpenComment;
+      stmt += ' ';  // a comment separates tokens like whitespace
+      i = j + 2;
       continue;
     }
     ++i;
-    if (c == ';') return true;
+    if (c == ';') return Stmt::Closed;
     if (c != '\n' && c != '\r') stmt += c;
   }
-  return false;
+  return Stmt::Eof;
+}
+
+// stmt without the spaces and tabs around it.
+std::string_view trimmed(const std::string& stmt) {
+  const auto b = stmt.find_first_not_of(" \t");
+  if (b == std::string::npos) return {};
+  const auto e = stmt.find_last_not_of(" \t");
+  return std::string_view(stmt).substr(b, e + 1 - b);
+}
+
+// A keyword statement: exactly `kw`, or `kw` followed by parameters ("DATA('x',(...))").
+bool is_keyword(std::string_view s, std::string_view kw) {
+  if (s.substr(0, kw.size()) != kw) return false;
+  const std::string_view rest = s.substr(kw.size());
+  const auto b = rest.find_first_not_of(" \t");
+  return b == std::string_view::npos || rest[b] == '(';
+}
+
+// Up to 40 characters of the line from pos, for a message.
+std::string line_text(std::string_view t, std::size_t pos) {
+  const std::string_view rest = t.substr(std::min(pos, t.size()));
+  return std::string(rest.substr(0, std::min<std::size_t>(40, rest.find_first_of("\r\n"))));
+}
+
+std::string unclosed_comment(std::string_view t, std::size_t at) {
+  return "unterminated comment: the '/*' at line " + std::to_string(line_at(t, at)) +
+         " is never closed by '*/'";
 }
 
 // A word at s[j..] (letters, digits, '_' and, with dash, '-'); returns its end.
@@ -219,42 +286,77 @@ std::string check_dangling(const StepScan& st, const PrescanOptions& opt, Presca
   return {};
 }
 
+// OCCT 7.6's STEP lexer knows the section keywords only with their ';' attached
+// ("DATA;"): "DATA ;" or "ENDSEC /* c */;" fails its parse (measured on all five), although
+// the standard allows the space. Such a file is refused with the line rather than passed
+// on to a reader that rejects it without saying why. stmt (trimmed) ended at t[i - 1].
+std::string glued_keyword_error(std::string_view t, std::size_t i, std::string_view stmt) {
+  for (const std::string_view kw : {"ISO-10303-21", "HEADER", "ENDSEC", "DATA", "END-ISO-10303-21"})
+    if (stmt == kw && (i < kw.size() + 1 || t.compare(i - 1 - kw.size(), kw.size(), kw) != 0))
+      return "line " + std::to_string(line_at(t, i - 1)) + ": space or comment between '" +
+             std::string(kw) + "' and its ';', which OpenCASCADE's STEP reader rejects (write '" +
+             std::string(kw) + ";')";
+  return {};
+}
+
+// The header, from the text's start: "ISO-10303-21;", the HEADER section, up to the DATA
+// keyword; i ends after DATA's ';'. Comments and a byte-order mark are skipped (they are
+// not content). "" or the error.
+std::string scan_step_header(std::string_view t, std::size_t& i) {
+  i = starts_with_bom(t) ? kUtf8Bom.size() : 0;
+  std::string stmt;
+  std::size_t start = i;
+  Stmt st = next_statement(t, i, stmt);
+  if (st == Stmt::OpenComment) return unclosed_comment(t, i);
+  if (st != Stmt::Closed || trimmed(stmt) != "ISO-10303-21") {
+    skip_blank(t, start);
+    return "not a STEP file: line " + std::to_string(line_at(t, start)) + " begins with '" +
+           line_text(t, start) + "' instead of ISO-10303-21;";
+  }
+  for (;;) {
+    if (std::string e = glued_keyword_error(t, i, trimmed(stmt)); !e.empty()) return e;
+    if (is_keyword(trimmed(stmt), "DATA")) return {};
+    st = next_statement(t, i, stmt);
+    if (st == Stmt::OpenComment) return unclosed_comment(t, i);
+    if (st == Stmt::Eof) return "STEP file has no DATA section";
+  }
+}
+
 PrescanResult scan_step(std::string_view t, const PrescanOptions& opt) {
   PrescanResult r;
   r.content = CadFormat::Step;
-  const std::size_t data = t.find("DATA;");
-  if (data == std::string_view::npos) {
-    r.error = "STEP file has no DATA section";
-    return r;
-  }
-  StepScan st;
-  std::string stmt;
-  bool ended = false;
-  std::size_t i = data + 5;
   auto fail = [&](std::string msg) {
     r.ok = false;
     r.error = std::move(msg);
     return r;
   };
+  std::size_t i = 0;
+  if (std::string e = scan_step_header(t, i); !e.empty()) return fail(e);
+  StepScan st;
+  std::string stmt;
+  bool ended = false;
   while (i < t.size()) {
-    const bool closed = next_statement(t, i, stmt);
-    // Trim.
-    const auto b = stmt.find_first_not_of(" \t");
-    if (b == std::string::npos) {
-      if (!closed) break;
+    std::size_t start = i;
+    const Stmt closed = next_statement(t, i, stmt);
+    if (closed == Stmt::OpenComment) return fail(unclosed_comment(t, i));
+    const std::string_view s = trimmed(stmt);
+    if (s.empty()) {
+      if (closed == Stmt::Eof) break;
       continue;
     }
-    std::string_view s(stmt);
-    s.remove_prefix(b);
-    if (!closed)
-      return fail(
-          "truncated: the file ends inside a statement of the DATA section (no END-ISO-10303-21;)");
+    if (closed == Stmt::Eof) {
+      skip_blank(t, start);
+      return fail("truncated: the file ends inside the statement of line " +
+                  std::to_string(line_at(t, start)) +
+                  " in the DATA section (no END-ISO-10303-21;)");
+    }
+    if (std::string e = glued_keyword_error(t, i, s); !e.empty()) return fail(e);
     if (s.rfind("ENDSEC", 0) == 0) continue;
     if (s.rfind("END-ISO-10303-21", 0) == 0) {
       ended = true;
       break;
     }
-    if (s.rfind("DATA", 0) == 0) continue;  // a second DATA section
+    if (is_keyword(s, "DATA")) continue;  // a second DATA section
     if (s[0] != '#') {
       // OCC skips a garbled statement and reports the entities it could not read; so do
       // we (OCC bug 32314's "corrupted" file has such lines and still loads).
@@ -393,36 +495,16 @@ CadFormat format_from_extension(const std::string& path) {
   return CadFormat::Unknown;
 }
 
-namespace {
-
-// Where a STEP file's first token starts: after a UTF-8 byte-order mark, and after the
-// whitespace and comments ISO 10303-21 allows before it (a comment may stand wherever
-// whitespace may). npos when the text ends first or inside a comment.
-std::size_t step_text_start(std::string_view t) {
-  std::size_t i = t.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
-  while (i < t.size()) {
-    if (t[i] == ' ' || t[i] == '\t' || t[i] == '\r' || t[i] == '\n') {
-      ++i;
-    } else if (t.substr(i, 2) == "/*") {
-      const std::size_t j = t.find("*/", i + 2);
-      if (j == std::string_view::npos) return std::string_view::npos;
-      i = j + 2;
-    } else {
-      return i;
-    }
-  }
-  return std::string_view::npos;
-}
-
-}  // namespace
-
 CadFormat sniff_format(std::string_view head) {
+  // STEP: the header keyword after a byte-order mark, blank lines and comments.
+  std::size_t i = 0;
+  const std::string_view text = without_bom(head);
+  if (skip_blank(text, i) && text.compare(i, 12, "ISO-10303-21") == 0) return CadFormat::Step;
   head = head.substr(0, std::min<std::size_t>(head.size(), 4096));
-  const auto first = step_text_start(head);
-  if (first != std::string_view::npos && head.substr(first).rfind("ISO-10303-21", 0) == 0)
-    return CadFormat::Step;
   if (head.find("CASCADE Topology V") != std::string_view::npos) return CadFormat::Brep;
-  // IGES: a first line of (at least) 73 columns with a section letter in column 73.
+  // IGES: a first line of (at least) 73 columns with a section letter in column 73. The
+  // records are fixed-column ASCII: no byte-order mark, no leading blank line (either
+  // shifts the columns); the line end (LF or CRLF) is not part of a record.
   std::size_t e = head.find('\n');
   std::string_view l = head.substr(0, e == std::string_view::npos ? head.size() : e);
   if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
@@ -448,6 +530,36 @@ PrescanResult prescan_text(std::string_view text, CadFormat fmt, const PrescanOp
   }
 }
 
+namespace {
+
+// Why text of no known format was refused: a leading comment that never closes or is
+// followed by something other than a STEP header, a byte-order mark before IGES records,
+// or neither header at all.
+std::string unknown_format_reason(std::string_view text) {
+  const std::string_view body = without_bom(text);
+  std::size_t i = 0;
+  const bool closed = skip_blank(body, i);
+  if (i == body.size())
+    return starts_with_bom(text) ? "the file is empty: it holds only a UTF-8 byte-order mark"
+                                 : "the file is empty: it holds only whitespace";
+  if (!closed) return unclosed_comment(body, i);
+  if (i > 0 && body.find("/*") < i)
+    return "not a CAD file: after the leading comment, line " + std::to_string(line_at(body, i)) +
+           " begins with '" + line_text(body, i) + "' instead of the STEP header ISO-10303-21;";
+  if (starts_with_bom(text) && sniff_format(body) == CadFormat::Iges)
+    return "an IGES file must not begin with a UTF-8 byte-order mark: its records are "
+           "fixed-column ASCII (remove the first 3 bytes)";
+  const bool binary = std::any_of(
+      text.begin(), text.begin() + std::min<std::size_t>(text.size(), 4096), [](unsigned char c) {
+        return c == 0 || (c < 32 && c != '\n' && c != '\r' && c != '\t') || c >= 127;
+      });
+  return std::string("not a CAD file") + (binary ? " (binary content)" : "") +
+         ": neither a STEP header (ISO-10303-21;), an IGES start line (80 columns, "
+         "section letter in column 73) nor an OpenCASCADE BREP header (CASCADE Topology)";
+}
+
+}  // namespace
+
 PrescanResult prescan_file(const std::string& path, const PrescanOptions& opt) {
   PrescanResult r;
   std::ifstream in(path, std::ios::binary);
@@ -462,17 +574,12 @@ PrescanResult prescan_file(const std::string& path, const PrescanOptions& opt) {
   }
   const CadFormat fmt = sniff_format(text);
   if (fmt == CadFormat::Unknown) {
-    const bool binary = std::any_of(
-        text.begin(), text.begin() + std::min<std::size_t>(text.size(), 4096), [](unsigned char c) {
-          return c == 0 || (c < 32 && c != '\n' && c != '\r' && c != '\t') || c >= 127;
-        });
-    r.error = std::string("not a CAD file") + (binary ? " (binary content)" : "") +
-              ": neither a STEP header (ISO-10303-21;), an IGES start line (80 columns, "
-              "section letter in column 73) nor an OpenCASCADE BREP header (CASCADE Topology)";
+    r.error = unknown_format_reason(text);
     return r;
   }
   r = prescan_text(text, fmt, opt);
   r.content = fmt;
+  r.utf8_bom = starts_with_bom(text);
   return r;
 }
 

@@ -129,3 +129,40 @@ TEST_CASE("prescan: BREP numbers must be finite", "[io][prescan]") {
         std::string::npos);
   CHECK_FALSE(scan(head + "Curves 1\n1 0 1e999 0 1 0 0\n", CadFormat::Brep).ok);
 }
+
+TEST_CASE("prescan: STEP comments, byte-order mark, blank lines and CRLF are whitespace",
+          "[io][prescan]") {
+  const std::string bom = "\xEF\xBB\xBF";
+  CHECK(sniff_format("/* c */\nISO-10303-21;") == CadFormat::Step);
+  CHECK(sniff_format(bom + "\r\n\r\n/* a */ /* b\n */ISO-10303-21;") == CadFormat::Step);
+  CHECK(sniff_format("/* never closed ISO-10303-21;") == CadFormat::Unknown);
+  CHECK(sniff_format("/* c */ garbage ISO-10303-21;") == CadFormat::Unknown);
+  const std::string crlf_good =
+      "#1=CARTESIAN_POINT('',(0.,/* y */1.5,-2.E1));\r\n"
+      "/* #9=PLANE('',#99); */\r\n#2=DIRECTION('',(0.,0.,1.));\r\n";
+  const PrescanResult r = scan(bom + "/* head */\r\n" + step(crlf_good));
+  INFO(r.error);
+  CHECK(r.ok);
+  CHECK(r.step_entities == 2);
+  CHECK(r.dangling_references == 0);  // #99 is in a comment
+  // A comment separates tokens: '1./**/2.' is two numbers, as in the standard.
+  CHECK(scan(step("#1=CARTESIAN_POINT('',(1./**/2.E400));\n")).error.find("overflows") !=
+        std::string::npos);
+  CHECK(scan(step("#1=PLANE('',#2);\n/* never closed\n")).error.find("unterminated comment") !=
+        std::string::npos);
+  CHECK(scan("/* c */ nonsense;\n" + step(kGood)).error.find("not a STEP file: line 1") !=
+        std::string::npos);
+}
+
+TEST_CASE("prescan: IGES accepts CRLF line ends, not a byte-order mark", "[io][prescan]") {
+  std::string ok = iges_line("start", 'S', 1) + iges_line("1H,,1H;;", 'G', 1) +
+                   iges_line("     110       1", 'D', 1) + iges_line("     110       0", 'D', 2) +
+                   iges_line("110,0.,0.,0.,1.,1.,1.;", 'P', 1) +
+                   iges_line("S      1G      1D      2P      1", 'T', 1);
+  std::string crlf;
+  for (const char c : ok) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  CHECK(sniff_format(crlf) == CadFormat::Iges);
+  CHECK(scan(crlf, CadFormat::Iges).ok);
+  // Fixed-column records: a byte-order mark shifts column 73 of the first line.
+  CHECK(sniff_format("\xEF\xBB\xBF" + ok) == CadFormat::Unknown);
+}

@@ -1,7 +1,9 @@
 // Text pre-scan of CAD files, before OpenCASCADE sees them (no OCC here). Detects the
 // format from the content, and rejects what crashes, hangs or silently corrupts an OCC
 // import: empty or truncated files, binary garbage, NaN / infinite / huge coordinates,
-// STEP references to undefined entities, IGES files missing a section.
+// STEP references to undefined entities, IGES files missing a section. STEP text may
+// carry what ISO 10303-21 treats as whitespace (comments anywhere, blank lines, CRLF line
+// ends) and a UTF-8 byte-order mark; IGES records are fixed-column (CRLF ends accepted).
 //
 //   io::PrescanResult p = io::prescan_file("part.stp", {});
 //   if (!p.ok) std::cerr << p.error;      // e.g. "entity #14 references undefined #999999"
@@ -38,6 +40,9 @@ struct PrescanResult {
   int step_tessellated_faces = 0;  ///< (COMPLEX_)TRIANGULATED_FACE / TESSELLATED_* instances
   int malformed_statements = 0;    ///< STEP statements that are not '#id = ...' (skipped)
   int dangling_references = 0;     ///< references to entities defined nowhere
+  /// The file begins with a UTF-8 byte-order mark (prescan_file; skipped by the scan, and
+  /// by read_cad before OCC, whose STEP reader rejects it).
+  bool utf8_bom = false;
   std::vector<std::string> warnings;
 };
 
