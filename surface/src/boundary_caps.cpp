@@ -66,6 +66,7 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
   floor_ = spec.hmin > 0 ? spec.hmin : 1e-3 * D;
   prox_floor_ = proximity_floor(spec, D, feature);
   sheet_floor_ = proximity_floor(spec, D, 0.0);
+  sized_at_floor_ = feature > 0;
   eps_ = 1e-12 * D;
   for (std::size_t e = 0; e < m.edges.size(); ++e) {
     const geom::Edge& ed = m.edges[e];
@@ -126,15 +127,19 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
       for (geom::Id oe : face_edges[static_cast<std::size_t>(f)]) {
         if (static_cast<std::size_t>(oe) == e) continue;
         const EdgePoly& P = poly_[static_cast<std::size_t>(oe)];
-        // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor). A
-        // gap below the feature size is an artefact to absorb into the faces beside it --
-        // unless both edges are free: then the gap is a sheet's own width, nothing is
-        // there to absorb it, and it is resolved down to hmin / 100 as before.
+        // A gap within the two edges' CAD tolerances is no gap (kGapToleranceFactor).
+        // With a feature size L, a gap below L is sized at L, not resolved and not
+        // ignored: ignored, the face across it took the size beside it and its triangles
+        // were caps of Q ~ h / width (where it is narrower than L/2 the simplify stage
+        // then collapses across it; where it is wider, elements of L fit it fairly).
+        // Between two free edges the gap is a sheet's own width, nothing is there to
+        // absorb it, and it is resolved down to hmin / 100 as before; so is every gap
+        // under keep_topology, where one below hmin / 100 is ignored.
         const bool sheet = uses[e] == 1 && uses[static_cast<std::size_t>(oe)] == 1;
-        Neighbour nb{
-            oe,
-            std::max(sheet ? sheet_floor_ : prox_floor_, kGapToleranceFactor * (self.tol + P.tol)),
-            {false, false}};
+        const double tol_floor = kGapToleranceFactor * (self.tol + P.tol);
+        const double floor = std::max(sheet ? sheet_floor_ : prox_floor_, tol_floor);
+        const double from = sheet || !sized_at_floor_ ? floor : tol_floor;
+        Neighbour nb{oe, floor, std::min(from, floor), {false, false}};
         if (!self.p.empty())
           for (int k = 0; k < 2; ++k) {
             const geom::Vec3& q = k == 0 ? P.p.front() : P.p.back();
@@ -215,13 +220,14 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
         // degrees, where the sizes then shrink towards the corner.
         const geom::Vec3 v = closest_on_segment(x, P.p[i], P.p[i + 1]) - x;
         const double d = glm::length(v);
-        // A gap below the floor (a face narrower than hmin / 100, or than the two
-        // edges' CAD tolerances: a defect rather than a feature) cannot be resolved;
-        // refining along it would only multiply the slivers across it, so it is left
-        // to the other caps.
-        if (d >= prox || d < gap_floor) continue;
+        // A gap below resolve_from (a face narrower than the two edges' CAD
+        // tolerances, or under keep_topology than hmin / 100: a defect rather than a
+        // feature) cannot be resolved; refining along it would only multiply the
+        // slivers across it, so it is left to the other caps. One between it and the
+        // gap floor is sized at the floor.
+        if (d >= prox || d < nb.resolve_from) continue;
         if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
-        prox = std::min(prox, d);
+        prox = std::min(prox, std::max(d, gap_floor));
       }
     }
   }

@@ -109,14 +109,18 @@ class BoundaryCaps {
   static constexpr std::size_t kChunk = 16;
   std::vector<EdgePoly> poly_;
   struct Neighbour {
-    geom::Id edge;       ///< another edge of a face around this one
-    double gap_floor;    ///< a gap below this is none (proximity floor, the two CAD tolerances)
+    geom::Id edge;     ///< another edge of a face around this one
+    double gap_floor;  ///< a gap below this is none (proximity floor, the two CAD tolerances)
+    /// A gap in [resolve_from, gap_floor) is sized at gap_floor (with a feature size:
+    /// every gap above the CAD tolerances gets elements of at least L; boundary_caps.cpp).
+    double resolve_from;
     bool shares_end[2];  ///< its first / last node is an end of this edge
   };
   std::vector<std::vector<Neighbour>> nbrs_;  ///< per edge, in the order cap() visits them
   double beta_ = 1.3, floor_ = 0.0, prox_floor_ = 0.0, eps_ = 0.0;
   /// The proximity floor between two free edges (each used once): hmin / 100.
   double sheet_floor_ = 0.0;
+  bool sized_at_floor_ = false;  ///< a feature size is set: gaps below it sized at it
 };
 
 /// A face's contribution before stitching. Corners of triangles are global node ids

@@ -161,6 +161,8 @@ struct Simplifier {
   bool try_flip(int t, int k, double limit);
   bool try_split(int t, int k);
   bool repair_pass(const std::vector<int>& cand);
+  bool try_relocate(NodeId n);
+  bool relocate_pass(const std::vector<int>& cand);
   double node_param(NodeId n, geom::Id e, double hint) const;
   NodeId add_edge_node(geom::Id e, double t);
   void run();
@@ -696,6 +698,83 @@ bool Simplifier::repair_pass(const std::vector<int>& cand) {
   return any;
 }
 
+// Relocation (the point smoothing of the chapter's optimization step, done on the CAD
+// surface): a face node of a poor triangle moved toward the centroid of its ring and
+// projected back onto its face, at the largest of a few step fractions that lowers the
+// worst Q of the ring without turning a triangle past the fold guard. Only nodes whose
+// triangles all lie on their own face with one (u,v) (not on a seam) move, so every
+// vertex stays on its CAD face and each triangle keeps its face.
+bool Simplifier::try_relocate(NodeId n) {
+  if (dim(n) != 2) return false;
+  const geom::Id f = ent(n);
+  std::vector<int> ring;
+  std::optional<Vec2> uv0;
+  bool ok = true;
+  for_tris(n, [&](int t) {
+    if (M.triangle_face[static_cast<std::size_t>(t)] != f) ok = false;
+    const Tri& v = T(t);
+    const int k = v[0] == n ? 0 : (v[1] == n ? 1 : 2);
+    const Vec2 uv = M.triangle_uv[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)];
+    if (uv0 && glm::length(uv - *uv0) > 0) ok = false;
+    uv0 = uv;
+    ring.push_back(t);
+  });
+  if (!ok || ring.size() < 3 || !uv0) return false;
+  double old_worst = 0, area = 0, h = 0;
+  Vec3 target(0.0);
+  for (int t : ring) {
+    const Tri& v = T(t);
+    old_worst = std::max(old_worst, Q(t));
+    const double a = 0.5 * glm::length(glm::cross(P(v[1]) - P(v[0]), P(v[2]) - P(v[0])));
+    target += a * (P(v[0]) + P(v[1]) + P(v[2])) / 3.0;
+    area += a;
+    for (int k = 0; k < 3; ++k) h = std::max(h, glm::length(P(v[(k + 1) % 3]) - P(v[k])));
+  }
+  if (!(area > 0)) return false;
+  target /= area;
+  const Vec3 x0 = P(n);
+  for (double step : {1.0, 0.5, 0.25}) {
+    const geom::Projection pr = project(f, x0 + step * (target - x0), *uv0, h);
+    if (!pr.converged) continue;
+    double worst = 0;
+    bool fold = false;
+    for (int t : ring) {
+      std::array<Vec3, 3> c{P(T(t)[0]), P(T(t)[1]), P(T(t)[2])};
+      const Vec3 n0 = unit_normal(c[0], c[1], c[2]);
+      for (auto& x : c)
+        if (x == x0) x = pr.point;
+      if (glm::dot(n0, unit_normal(c[0], c[1], c[2])) < kMaxTurn) fold = true;
+      worst = std::max(worst, shape(c[0], c[1], c[2]));
+    }
+    if (fold || !(worst < old_worst)) continue;
+    M.points[static_cast<std::size_t>(n)] = pr.point;
+    for (int t : ring) {
+      const Tri& v = T(t);
+      const int k = v[0] == n ? 0 : (v[1] == n ? 1 : 2);
+      M.triangle_uv[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)] = pr.uv;
+      touched.push_back(t);
+    }
+    changed = true;
+    return true;
+  }
+  return false;
+}
+
+// The face nodes of triangles still poor after the swaps, worst triangle first.
+bool Simplifier::relocate_pass(const std::vector<int>& cand) {
+  std::vector<std::pair<double, int>> bad;
+  for (int t : cand)
+    if (tri_alive[static_cast<std::size_t>(t)] && Q(t) > kPoorShape) bad.emplace_back(-Q(t), t);
+  std::sort(bad.begin(), bad.end());
+  bool any = false;
+  for (const auto& [negq, t] : bad) {
+    if (!tri_alive[static_cast<std::size_t>(t)] || Q(t) <= kPoorShape) continue;
+    const Tri v = T(t);
+    for (NodeId n : v) any |= try_relocate(n);
+  }
+  return any;
+}
+
 void Simplifier::run() {
   init();
   std::vector<double> area0(m.faces.size(), 0.0);
@@ -719,6 +798,7 @@ void Simplifier::run() {
     next.erase(std::unique(next.begin(), next.end()), next.end());
     // The next round looks at what either pass made, nothing else.
     repair_pass(next);
+    relocate_pass(next);
     cand.assign(touched.begin(), touched.end());
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());

@@ -6,9 +6,10 @@
 //   SimplifyInput in{model, L, chordal_tol, feature_angle};
 //   std::vector<Simplification> log = simplify_mesh(in, mesh);
 //
-// Every vertex stays where it is, on its model entity; the mesh only loses vertices
-// (edge collapses), changes diagonals (3D edge swaps) or gains vertices on model edges
-// (splits at a point of the curve). A model edge is sharp (kept as a chain of segments)
+// Every vertex stays on its model entity; the mesh only loses vertices (edge collapses),
+// changes diagonals (3D edge swaps), gains vertices on model edges (splits at a point of
+// the curve) or moves face nodes of poor triangles along their face (relocation,
+// projected back onto the CAD surface). A model edge is sharp (kept as a chain of segments)
 // when its faces meet at a dihedral angle of at least the feature angle, it is free or
 // non-manifold, it separates two solids or two differently named faces, or it is a seam;
 // any other edge is smooth and is dissolved (its segments dropped, its nodes classified

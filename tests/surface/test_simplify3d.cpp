@@ -120,11 +120,11 @@ void check_clean(const geom::Model& m, const surface::MeshResult& r) {
   CHECK(r.mesh.triangles.size() == r.mesh.triangle_uv.size());
 }
 
-geom::Model chamfered_box() {
+geom::Model chamfered_box(double width = 1e-4) {
   TopoDS_Shape box = BRepPrimAPI_MakeBox(10, 10, 10).Shape();
   BRepFilletAPI_MakeChamfer ch(box);
   TopExp_Explorer ex(box, TopAbs_EDGE);
-  ch.Add(1e-4, TopoDS::Edge(ex.Current()));
+  ch.Add(width, TopoDS::Edge(ex.Current()));
   return geom::model_from_occ(ch.Shape(), {});
 }
 
@@ -174,6 +174,28 @@ TEST_CASE("face split 1 um from its edge: split edge dissolved, sliver absorbed"
   // Not yet "face absorbed": today's size field meshes the strip with elements of its
   // 1 um width, and the rounds coarsen it only part of the way to L (28114 -> 2238
   // triangles); with sizes bounded below by L the strip has a few elements across.
+}
+
+// A face between half the feature size and the whole of it is kept (simplify3d.cpp
+// absorbs only what is narrower than L/2), so the size field must resolve it at L:
+// sized as the faces beside it, its triangles were caps of Q ~ h / width.
+TEST_CASE("chamfer between L/2 and L wide: kept, its triangles fair", "[simplify3d]") {
+  const geom::Model probe = chamfered_box();
+  surface::MeshOptions o;
+  o.size = surface::default_size(probe);
+  o.size.hmax = probe.bbox.diagonal() / 20;
+  o.keep_topology = false;
+  const double L = surface::feature_size(o, probe.bbox);
+  REQUIRE(L > 0);
+  for (double share : {0.55, 0.75, 0.95}) {
+    // The chamfer's face is (2 * setback^2)^(1/2) wide.
+    const geom::Model m = chamfered_box(share * L / std::numbers::sqrt2);
+    const auto r = mesh(m, false);
+    INFO("width " << share << " L");
+    check_clean(m, r);
+    CHECK(shape_of(r.mesh).Q_max < 3);
+    CHECK_FALSE(lists(r, "face absorbed"));
+  }
 }
 
 TEST_CASE("cylinder with tangent planes: closed, on the CAD, no needles", "[simplify3d]") {
