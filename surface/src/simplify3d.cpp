@@ -160,6 +160,7 @@ struct Simplifier {
   bool collapse_pass(const std::vector<int>& cand);
   bool try_flip(int t, int k, double limit);
   bool try_split(int t, int k);
+  std::vector<int> poor_first(const std::vector<int>& cand) const;
   bool repair_pass(const std::vector<int>& cand);
   bool try_relocate(NodeId n);
   bool relocate_pass(const std::vector<int>& cand);
@@ -675,15 +676,22 @@ bool Simplifier::try_split(int t, int k) {
   return true;
 }
 
-// Triangles still poor after the collapses: swaps of their edges, longest first; caps on
-// a sharp edge split.
-bool Simplifier::repair_pass(const std::vector<int>& cand) {
+// The candidates with Q > kPoorShape, worst first.
+std::vector<int> Simplifier::poor_first(const std::vector<int>& cand) const {
   std::vector<std::pair<double, int>> bad;
   for (int t : cand)
     if (tri_alive[static_cast<std::size_t>(t)] && Q(t) > kPoorShape) bad.emplace_back(-Q(t), t);
   std::sort(bad.begin(), bad.end());
+  std::vector<int> r;
+  for (const auto& b : bad) r.push_back(b.second);
+  return r;
+}
+
+// Triangles still poor after the collapses: swaps of their edges, longest first; caps on
+// a sharp edge split.
+bool Simplifier::repair_pass(const std::vector<int>& cand) {
   bool any = false;
-  for (const auto& [negq, t] : bad) {
+  for (int t : poor_first(cand)) {
     if (!tri_alive[static_cast<std::size_t>(t)] || Q(t) <= kPoorShape) continue;
     const Tri v = T(t);
     std::array<std::pair<double, int>, 3> ks;
@@ -762,12 +770,8 @@ bool Simplifier::try_relocate(NodeId n) {
 
 // The face nodes of triangles still poor after the swaps, worst triangle first.
 bool Simplifier::relocate_pass(const std::vector<int>& cand) {
-  std::vector<std::pair<double, int>> bad;
-  for (int t : cand)
-    if (tri_alive[static_cast<std::size_t>(t)] && Q(t) > kPoorShape) bad.emplace_back(-Q(t), t);
-  std::sort(bad.begin(), bad.end());
   bool any = false;
-  for (const auto& [negq, t] : bad) {
+  for (int t : poor_first(cand)) {
     if (!tri_alive[static_cast<std::size_t>(t)] || Q(t) <= kPoorShape) continue;
     const Tri v = T(t);
     for (NodeId n : v) any |= try_relocate(n);
