@@ -137,11 +137,11 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
       "Defaults (D = bounding-box diagonal): --hmax D/20, --hmin D/1000, --angle 18 (20 elements\n"
       "per 2 pi), --chordal D/1000, --grad 1.3, isotropic sizes. Giving --angle or --chordal\n"
       "replaces both curvature defaults (the other is then off unless also given).\n"
-      "Feature size (--features, or --min-feature L; default L: hmin, at most the model box's\n"
-      "thinnest side / 50): model edges shorter, faces narrower and gaps narrower than it set\n"
-      "no size and are absorbed into their neighbours; model edges where the faces meet at less\n"
-      "than --feature-angle (default 20) may be crossed by mesh edges. Without either every\n"
-      "CAD entity stays in the mesh (--keep-topology). --report lists each absorption.");
+      "Feature size (--min-feature L; default: hmin, at most the model box's thinnest side / 50):\n"
+      "model edges shorter, faces narrower and gaps narrower than it set no size below it and\n"
+      "are absorbed into their neighbours; model edges where the faces meet at less than\n"
+      "--feature-angle (default 20) may be crossed by mesh edges. --keep-topology keeps every\n"
+      "CAD entity in the mesh instead. --report lists each absorption.");
   add_read_flags(c, f.read);
   c->add_option("-o,--output", f.out,
                 "output mesh; the extension picks the format (" + io::known_mesh_extensions() + ")")
@@ -161,9 +161,9 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
                 "dihedral angle in degrees below which a CAD edge is smooth (default 20)")
       ->check(CLI::Range(0.0, 180.0));
   c->add_flag("--features", f.features,
-              "absorb CAD entities below the default feature size (see above)");
+              "absorb CAD entities below the default feature size (the default; see above)");
   c->add_flag("--keep-topology", f.keep_topology,
-              "every CAD edge and face stays in the mesh; nothing is absorbed (the default)");
+              "every CAD edge and face stays in the mesh; nothing is absorbed");
   c->add_option("--grad", f.grad, "gradation: neighbouring sizes differ by at most this ratio")
       ->check(CLI::Range(1.0, 100.0));
   c->add_flag("--iso", f.iso, "isotropic curvature sizes (the default)");
@@ -242,7 +242,7 @@ int size_options(const MeshFlags& f, const geom::Model& model, surface::MeshOpti
   if (f.grad > 0) o.size.gradation = f.grad;
   if (f.min_feature > 0) o.min_feature = f.min_feature;
   if (f.feature_angle_deg > 0) o.feature_angle = f.feature_angle_deg * std::numbers::pi / 180.0;
-  o.keep_topology = f.keep_topology || !(f.features || f.min_feature > 0);
+  o.keep_topology = f.keep_topology;
   if (f.aniso > 0 && !f.iso) {
     o.size.isotropic = false;
     o.size.max_anisotropy = f.aniso;
@@ -288,10 +288,11 @@ struct Times {
 // The JSON report (--report): the report of `uvmesh check` (io/report.h), plus what only
 // the mesher knows. Sets the free and non-manifold edge counts; 0, or 4 after an error
 // message.
-int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::MeshOptions& o,
+int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::MeshOptions& asked,
                  const surface::MeshResult& r, const Times& times, std::size_t& free_edges,
                  std::size_t& nonman) {
   const geom::Model& model = rr.model;
+  const surface::MeshOptions o = surface::effective_options(model, asked);
   const double D = model.bbox.diagonal();
   const auto t0 = Clock::now();
   io::CheckOptions co;

@@ -40,6 +40,14 @@ param::SizeSpec meshing_size(const MeshOptions& opt) {
   return spec;
 }
 
+MeshOptions effective_options(const geom::Model& m, const MeshOptions& opt) {
+  // A subdivision cage has no CAD artefacts: its creases are features the user gave at
+  // any dihedral angle, never merged, and its limit surface keeps every entity.
+  MeshOptions o = opt;
+  if (m.format == "obj") o.keep_topology = true;
+  return o;
+}
+
 double feature_size(const MeshOptions& opt, const geom::Box3& bbox) {
   if (opt.keep_topology) return 0.0;
   if (opt.min_feature > 0) return opt.min_feature;
@@ -155,8 +163,9 @@ void warn_edges_closed_by_vertex(ModelRun& run) {
 
 }  // namespace
 
-MeshResult mesh_model(const geom::Model& m, const MeshOptions& opt) {
+MeshResult mesh_model(const geom::Model& m, const MeshOptions& options) {
   const auto t_all = Clock::now();
+  const MeshOptions opt = effective_options(m, options);
   ModelRun run(m, opt);
 
   auto t0 = Clock::now();

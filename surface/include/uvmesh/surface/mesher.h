@@ -59,11 +59,9 @@ struct MeshOptions {
   /// Dihedral angle (radians) below which a model edge is smooth: the faces on either
   /// side may be meshed as one domain, so mesh edges need not follow it.
   double feature_angle = 20.0 * 3.14159265358979323846 / 180.0;
-  /// Every model entity stays a mesh entity (the meshes of before feature sizes). The
-  /// default for now: with a feature size, some models still lose shape quality (a
-  /// slender part whose narrow faces the simplify stage cannot absorb cleanly), so it is
-  /// asked for (`--features`, `--min-feature`).
-  bool keep_topology = true;
+  /// Every model entity stays a mesh entity, proximity resolves down to hmin / 100 and
+  /// nothing is absorbed (`--keep-topology`: the meshes of before feature sizes).
+  bool keep_topology = false;
   /// Called after each face, from the worker thread that meshed it (so it must be
   /// thread-safe): faces done so far, total faces.
   std::function<void(int, int)> progress;
@@ -73,6 +71,10 @@ struct MeshOptions {
 /// curvature angle 18 degrees (20 elements per 2 pi), chordal tolerance D/1000,
 /// gradation 1.3.
 param::SizeSpec default_size(const geom::Model& m);
+
+/// The options mesh_model runs `m` with: `opt`, except that a subdivision cage keeps its
+/// topology (its patches and creases are the user's control net, not CAD artefacts).
+MeshOptions effective_options(const geom::Model& m, const MeshOptions& opt);
 
 /// The sizes mesh_model makes elements for: opt.size with its chordal tolerance divided
 /// by opt.chordal_safety (MeshResult::size holds them after a run). What a check of the
