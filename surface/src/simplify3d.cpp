@@ -31,6 +31,8 @@ const double kMaxTurn = std::cos(60.0 * std::numbers::pi / 180.0);
 constexpr int kRounds = 24;
 // What a collapse of an edge shorter than L may leave even when it is worse than before.
 constexpr double kFairShape = 2.0;
+// How much worse than the needle it removes a collapse along a needle strip may leave.
+constexpr double kStripStepSlack = 1.1;
 
 std::string fmt(double x) {
   std::ostringstream s;
@@ -152,6 +154,8 @@ struct Simplifier {
   };
   Plan plan_collapse(NodeId a, NodeId b) const;
   bool collapse_allowed(NodeId a, NodeId b, bool& dissolve) const;
+  bool on_free_edge(NodeId n) const;
+  Simplification vertex_merge(NodeId a, NodeId b, const Plan& p) const;
   bool link_ok(NodeId a, NodeId b, const std::vector<int>& removed) const;
   void apply_collapse(NodeId a, NodeId b, const Plan& p);
   void write(const NewTri& nt);
@@ -159,7 +163,7 @@ struct Simplifier {
   bool try_collapse(NodeId a, NodeId b);
   bool collapse_pass(const std::vector<int>& cand);
   bool try_flip(int t, int k, double limit);
-  bool try_split(int t, int k);
+  bool try_split(int t, int k, double max_height);
   std::vector<int> poor_first(const std::vector<int>& cand) const;
   bool repair_pass(const std::vector<int>& cand);
   bool try_relocate(NodeId n);
@@ -311,9 +315,15 @@ bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
   if (rank(a) > rank(b)) return false;
   const int s = segment(a, b);
   if (dim(a) == 0) {
-    if (s < 0) return false;
+    if (dim(b) != 0) return false;
+    // Two model vertices across a face (no model edge joins them) closer than L: the two
+    // corners of a sliver face that ends in a short side of no edge of its own. Merged
+    // like the ends of a short edge, except on a sheet's border, whose gaps are its own
+    // width.
+    if (s < 0)
+      return glm::length(P(a) - P(b)) < in.feature_size && !(on_free_edge(a) && on_free_edge(b));
     const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
-    return dim(b) == 0 && e >= 0 && m.edges[static_cast<std::size_t>(e)].length < in.feature_size;
+    return e >= 0 && m.edges[static_cast<std::size_t>(e)].length < in.feature_size;
   }
   if (dim(a) == 1) {
     if (s >= 0 && M.segments[static_cast<std::size_t>(s)].edge == ent(a)) return true;
@@ -330,6 +340,15 @@ bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
     dissolve = true;
   }
   return true;
+}
+
+bool Simplifier::on_free_edge(NodeId n) const {
+  for (int s : nsegs[static_cast<std::size_t>(n)])
+    if (seg_alive[static_cast<std::size_t>(s)]) {
+      const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
+      if (e >= 0 && free_edge[static_cast<std::size_t>(e)]) return true;
+    }
+  return false;
 }
 
 // Link condition: the common neighbours of a and b are the apexes of the triangles on a-b
@@ -353,6 +372,7 @@ Simplifier::Plan Simplifier::plan_collapse(NodeId a, NodeId b) const {
   if (!link_ok(a, b, p.removed)) return p;
   double old_worst = 0;
   for (int t : p.removed) old_worst = std::max(old_worst, Q(t));
+  const double removed_worst = old_worst;
   bool ok = true;
   p.worst = 0;
   for_tris(a, [&](int t) {
@@ -370,10 +390,15 @@ Simplifier::Plan Simplifier::plan_collapse(NodeId a, NodeId b) const {
     p.tris.push_back(nt);
   });
   // Never worse than the worst triangle replaced, unless that one is removed for good.
-  // An edge shorter than L may also go where the triangles it leaves stay fair.
+  // An edge shorter than L may also go where the triangles it leaves stay fair, or where
+  // it removes a needle and leaves about as bad a one: a strip narrower than L meshed as
+  // a row of needles is absorbed one cross edge at a time, and only the last collapse
+  // clears it.
   const bool short_edge = glm::length(P(a) - P(b)) < in.feature_size;
+  const bool strip_step =
+      short_edge && removed_worst > kPoorShape && p.worst <= kStripStepSlack * removed_worst;
   if (!ok || !(p.worst <= old_worst || (old_worst > kBadShape && p.worst < kBadShape) ||
-               (short_edge && p.worst < kFairShape)))
+               (short_edge && p.worst < kFairShape) || strip_step))
     return p;
   for (NewTri& nt : p.tris)
     if (!place(nt, M.triangle_face[static_cast<std::size_t>(nt.slot)],
@@ -433,18 +458,31 @@ void Simplifier::dissolve(geom::Id e) {
   changed = true;
 }
 
-void Simplifier::apply_collapse(NodeId a, NodeId b, const Plan& p) {
-  if (dim(a) == 0) {  // a model edge shorter than L: its two vertices become one
-    const int s = segment(a, b);
+// The log entry of two model vertices made one: the ends of a model edge shorter than L,
+// or two corners closer than L across the faces of the triangles removed.
+Simplification Simplifier::vertex_merge(NodeId a, NodeId b, const Plan& p) const {
+  Simplification r;
+  r.vertices = {ent(a), ent(b)};
+  const int s = segment(a, b);
+  if (s >= 0) {
     const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
-    Simplification r;
     r.what = "edge collapsed to a vertex";
-    r.vertices = {ent(a), ent(b)};
     r.edges = {e};
     r.size = m.edges[static_cast<std::size_t>(e)].length;
     r.why = "length " + fmt(r.size) + " < feature size " + fmt(in.feature_size);
-    log.push_back(std::move(r));
+    return r;
   }
+  r.what = "vertices merged";
+  for (int t : p.removed) r.faces.push_back(M.triangle_face[static_cast<std::size_t>(t)]);
+  std::sort(r.faces.begin(), r.faces.end());
+  r.faces.erase(std::unique(r.faces.begin(), r.faces.end()), r.faces.end());
+  r.size = glm::length(P(a) - P(b));
+  r.why = "distance " + fmt(r.size) + " across the face < feature size " + fmt(in.feature_size);
+  return r;
+}
+
+void Simplifier::apply_collapse(NodeId a, NodeId b, const Plan& p) {
+  if (dim(a) == 0) log.push_back(vertex_merge(a, b, p));
   if (p.dissolve) dissolve(ent(a));
   for (int t : p.removed) tri_alive[static_cast<std::size_t>(t)] = 0;
   for (const NewTri& nt : p.tris) write(nt);
@@ -613,8 +651,9 @@ NodeId Simplifier::add_edge_node(geom::Id e, double t) {
 }
 
 // A cap whose long edge lies on a sharp model edge: the edge split at the point of its
-// curve nearest the apex, then the apex collapsed onto it when it may be.
-bool Simplifier::try_split(int t, int k) {
+// curve nearest the apex (when that point is closer than max_height to the apex), then
+// the apex collapsed onto it when it may be.
+bool Simplifier::try_split(int t, int k, double max_height) {
   const Tri v = T(t);
   const NodeId b = v[k], c = v[(k + 1) % 3], a = v[(k + 2) % 3];
   const int s = segment(b, c);
@@ -629,6 +668,7 @@ bool Simplifier::try_split(int t, int k) {
   const double span = std::abs(t1 - t0);
   if (!(std::abs(tm - t0) > 0.05 * span && std::abs(tm - t1) > 0.05 * span)) return false;
   const Vec3 x = E.curve->point(tm);
+  if (!(glm::length(P(a) - x) < max_height)) return false;
   double old_worst = 0, new_worst = 0;
   std::vector<NewTri> nts;
   for (int tri : on) {
@@ -700,7 +740,10 @@ bool Simplifier::repair_pass(const std::vector<int>& cand) {
     bool done = false;
     for (const auto& [nl, k] : ks)
       if (!done) done = try_flip(t, k, Q(t));
-    if (!done && Q(t) > kBadShape) done = try_split(t, ks[0].second);
+    // A cap of Q above kBadShape is split whatever its height; a poor one only when its
+    // apex lies closer than L to the edge (a strip narrower than L meshed as caps along
+    // it, which the apex collapses onto the split points absorb).
+    if (!done) done = try_split(t, ks[0].second, Q(t) > kBadShape ? kInf : in.feature_size);
     any |= done;
   }
   return any;

@@ -571,6 +571,28 @@ TEST_CASE(
   }
 }
 
+TEST_CASE("surface mesher: slivers narrower than the feature size leave no needle (occt_caxif_b1)",
+          "[surface][feature]") {
+  // With the default feature size, two classes of sliver were left as needles (Q up to
+  // 243 at D/20, 21 at D/40): a face whose two corners lie 0.01 apart with no model edge
+  // between them (its boundary runs out and back), and strips meshed as a row of needles,
+  // where each collapse across the strip leaves a needle about as bad as the one it
+  // removes until the last one clears it. Both are absorbed now: no triangle of Q >= 3
+  // that is not at a corner under 20 degrees.
+  const std::string file = data("cad/occt_caxif_b1.stp");
+  const geom::Model m = load(file);
+  for (const surface::MeshOptions& o : {defaults(m), d40_angle30(m)}) {
+    const surface::MeshResult r = surface::mesh_model(m, o);
+    CHECK(r.failed.empty());
+    const surface::QualityReport q = surface::measure_quality(r.mesh, 5);
+    INFO("hmax " << o.size.hmax << ": Q max " << q.Q_max);
+    CHECK(q.Q_over_10 == 0);
+    CHECK(q.bad_away_from_corners == 0);
+    CHECK(q.bad_at_corners == q.bad_at_acute_corners);
+    check_solids_closed(r.mesh, m, 1);
+  }
+}
+
 TEST_CASE(
     "surface mesher: faces whose pcurves cross are triangulated from their boundary when that is "
     "valid",
