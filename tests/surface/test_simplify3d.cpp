@@ -128,8 +128,8 @@ geom::Model chamfered_box(double width = 1e-4) {
   return geom::model_from_occ(ch.Shape(), {});
 }
 
-// The top face z = 10 split by the line x = 1e-3 (1 um from its edge x = 0).
-geom::Model box_with_split_top() {
+// The top face z = 10 split by the line x = w (1 um from its edge x = 0 by default).
+geom::Model box_with_split_top(double w = 1e-3) {
   TopoDS_Shape box = BRepPrimAPI_MakeBox(10, 10, 10).Shape();
   TopoDS_Face top;
   for (TopExp_Explorer ex(box, TopAbs_FACE); ex.More(); ex.Next()) {
@@ -141,7 +141,7 @@ geom::Model box_with_split_top() {
     if (at_top) top = f;
   }
   BRepFeat_SplitShape sp(box);
-  sp.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(1e-3, 0, 10), gp_Pnt(1e-3, 10, 10)).Edge(), top);
+  sp.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(w, 0, 10), gp_Pnt(w, 10, 10)).Edge(), top);
   sp.Build();
   return geom::model_from_occ(sp.Shape(), {});
 }
@@ -174,6 +174,30 @@ TEST_CASE("face split 1 um from its edge: split edge dissolved, sliver absorbed"
   // Not yet "face absorbed": today's size field meshes the strip with elements of its
   // 1 um width, and the rounds coarsen it only part of the way to L (28114 -> 2238
   // triangles); with sizes bounded below by L the strip has a few elements across.
+}
+
+// A strip narrower than L/2 along a whole edge, split off a face by a smooth edge: its
+// split edge dissolved and the strip absorbed, nothing of Q >= 3 left at any width. (The
+// staggered-node strips between two sharp edges that needed the strip steps and the cap
+// splits of simplify3d.cpp are the corpus regressions of test_surface_mesher.cpp.)
+TEST_CASE("strip narrower than L/2 along an edge: absorbed, no triangle of Q >= 3",
+          "[simplify3d]") {
+  const geom::Model probe = box_with_split_top();
+  surface::MeshOptions o;
+  o.size = surface::default_size(probe);
+  o.size.hmax = probe.bbox.diagonal() / 20;
+  o.keep_topology = false;
+  const double L = surface::feature_size(o, probe.bbox);
+  REQUIRE(L > 0);
+  for (double share : {0.1, 0.25, 0.4}) {
+    const geom::Model m = box_with_split_top(share * L);
+    const auto r = mesh(m, false);
+    INFO("strip " << share << " L wide");
+    check_clean(m, r);
+    CHECK(shape_of(r.mesh).over3 == 0);
+    // Near L/2 the strip may stay, meshed fairly across (the sizes resolve it at L).
+    if (share <= 0.25) CHECK(lists(r, "face absorbed"));
+  }
 }
 
 // A face between half the feature size and the whole of it is kept (simplify3d.cpp

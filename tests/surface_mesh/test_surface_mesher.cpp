@@ -594,6 +594,27 @@ TEST_CASE("surface mesher: slivers narrower than the feature size leave no needl
 }
 
 TEST_CASE(
+    "surface mesher: strips narrower than L/2 between two sharp edges with staggered nodes leave "
+    "no caps (occt_motor, nist_ctc_02)",
+    "[surface][feature]") {
+  // Strips 0.05-0.15 L wide whose two sharp edges have their nodes half a segment apart:
+  // no node pair across is closer than L/2, so nothing collapsed, and the strip stayed a
+  // row of caps and needles of Q 3.5-4.6 (45 and 48 triangles of Q >= 3 away from
+  // corners). Caps whose apex is within L of the edge are now split under the apex and
+  // the apex collapsed there; each collapse along the row may leave a needle as bad as
+  // the one it removes, up to the last.
+  for (const char* name : {"cad/occt_motor.brep", "cad/nist_ctc_02.stp"}) {
+    const geom::Model m = load(data(name));
+    const surface::MeshResult r = surface::mesh_model(m, defaults(m));
+    INFO(name);
+    CHECK(r.failed.empty());
+    const surface::QualityReport q = surface::measure_quality(r.mesh, 5);
+    CHECK(q.Q_over_10 == 0);
+    CHECK(q.bad_away_from_corners == 0);
+  }
+}
+
+TEST_CASE(
     "surface mesher: faces whose pcurves cross are triangulated from their boundary when that is "
     "valid",
     "[surface]") {
