@@ -110,6 +110,15 @@ surface::MeshResult mesh(const geom::Model& m, bool keep_topology, double hmax_r
   return surface::mesh_model(m, o);
 }
 
+// The default feature size of a mesh(m, false) run (hmax D/20).
+double feature_size_of(const geom::Model& m) {
+  surface::MeshOptions o;
+  o.size = surface::default_size(m);
+  o.size.hmax = m.bbox.diagonal() / 20;
+  o.keep_topology = false;
+  return surface::feature_size(o, m.bbox);
+}
+
 void check_clean(const geom::Model& m, const surface::MeshResult& r) {
   const Shape s = shape_of(r.mesh);
   INFO("Q_max " << s.Q_max << ", Q>10: " << s.over10 << ", triangles " << r.mesh.triangles.size());
@@ -182,12 +191,7 @@ TEST_CASE("face split 1 um from its edge: split edge dissolved, sliver absorbed"
 // splits of simplify3d.cpp are the corpus regressions of test_surface_mesher.cpp.)
 TEST_CASE("strip narrower than L/2 along an edge: absorbed, no triangle of Q >= 3",
           "[simplify3d]") {
-  const geom::Model probe = box_with_split_top();
-  surface::MeshOptions o;
-  o.size = surface::default_size(probe);
-  o.size.hmax = probe.bbox.diagonal() / 20;
-  o.keep_topology = false;
-  const double L = surface::feature_size(o, probe.bbox);
+  const double L = feature_size_of(box_with_split_top());
   REQUIRE(L > 0);
   for (double share : {0.1, 0.25, 0.4}) {
     const geom::Model m = box_with_split_top(share * L);
@@ -204,12 +208,7 @@ TEST_CASE("strip narrower than L/2 along an edge: absorbed, no triangle of Q >= 
 // absorbs only what is narrower than L/2), so the size field must resolve it at L:
 // sized as the faces beside it, its triangles were caps of Q ~ h / width.
 TEST_CASE("chamfer between L/2 and L wide: kept, its triangles fair", "[simplify3d]") {
-  const geom::Model probe = chamfered_box();
-  surface::MeshOptions o;
-  o.size = surface::default_size(probe);
-  o.size.hmax = probe.bbox.diagonal() / 20;
-  o.keep_topology = false;
-  const double L = surface::feature_size(o, probe.bbox);
+  const double L = feature_size_of(chamfered_box());
   REQUIRE(L > 0);
   for (double share : {0.55, 0.75, 0.95}) {
     // The chamfer's face is (2 * setback^2)^(1/2) wide.
