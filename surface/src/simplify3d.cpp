@@ -316,18 +316,18 @@ bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
   const int s = segment(a, b);
   if (dim(a) == 0) {
     if (dim(b) != 0) return false;
-    // Two model vertices across a face (no model edge joins them) closer than L: the two
+    // Two model vertices across a face (no model edge joins them) closer than L / 2: the two
     // corners of a sliver face that ends in a short side of no edge of its own. Merged
     // like the ends of a short edge, except on a sheet's border, whose gaps are its own
     // width.
     if (s < 0)
-      return glm::length(P(a) - P(b)) < in.feature_size && !(on_free_edge(a) && on_free_edge(b));
+      return glm::length(P(a) - P(b)) < in.collapse_size && !(on_free_edge(a) && on_free_edge(b));
     const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
-    return e >= 0 && m.edges[static_cast<std::size_t>(e)].length < in.feature_size;
+    return e >= 0 && m.edges[static_cast<std::size_t>(e)].length < in.collapse_size;
   }
   if (dim(a) == 1) {
     if (s >= 0 && M.segments[static_cast<std::size_t>(s)].edge == ent(a)) return true;
-    // Two sharp edges closer than L (the two sides of a sliver face): one gives its
+    // Two sharp edges closer than L / 2 (the two sides of a sliver face): one gives its
     // nodes to the other.
     // Not two free edges: their gap is a sheet's own width, which nothing absorbs (the
     // size field resolves it, boundary_caps.cpp).
@@ -335,7 +335,7 @@ bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
       if (free_edge[static_cast<std::size_t>(ent(a))] && dim(b) == 1 &&
           free_edge[static_cast<std::size_t>(ent(b))])
         return false;
-      return rank(b) >= 2 && glm::length(P(a) - P(b)) < in.feature_size;
+      return rank(b) >= 2 && glm::length(P(a) - P(b)) < in.collapse_size;
     }
     dissolve = true;
   }
@@ -394,7 +394,7 @@ Simplifier::Plan Simplifier::plan_collapse(NodeId a, NodeId b) const {
   // it removes a needle and leaves about as bad a one: a strip narrower than L meshed as
   // a row of needles is absorbed one cross edge at a time, and only the last collapse
   // clears it.
-  const bool short_edge = glm::length(P(a) - P(b)) < in.feature_size;
+  const bool short_edge = glm::length(P(a) - P(b)) < in.collapse_size;
   const bool strip_step =
       short_edge && removed_worst > kPoorShape && p.worst <= kStripStepSlack * removed_worst;
   if (!ok || !(p.worst <= old_worst || (old_worst > kBadShape && p.worst < kBadShape) ||
@@ -459,7 +459,7 @@ void Simplifier::dissolve(geom::Id e) {
 }
 
 // The log entry of two model vertices made one: the ends of a model edge shorter than L,
-// or two corners closer than L across the faces of the triangles removed.
+// or two corners closer than L / 2 across the faces of the triangles removed.
 Simplification Simplifier::vertex_merge(NodeId a, NodeId b, const Plan& p) const {
   Simplification r;
   r.vertices = {ent(a), ent(b)};
@@ -469,7 +469,7 @@ Simplification Simplifier::vertex_merge(NodeId a, NodeId b, const Plan& p) const
     r.what = "edge collapsed to a vertex";
     r.edges = {e};
     r.size = m.edges[static_cast<std::size_t>(e)].length;
-    r.why = "length " + fmt(r.size) + " < feature size " + fmt(in.feature_size);
+    r.why = "length " + fmt(r.size) + " < L/2 = " + fmt(in.collapse_size);
     return r;
   }
   r.what = "vertices merged";
@@ -477,7 +477,7 @@ Simplification Simplifier::vertex_merge(NodeId a, NodeId b, const Plan& p) const
   std::sort(r.faces.begin(), r.faces.end());
   r.faces.erase(std::unique(r.faces.begin(), r.faces.end()), r.faces.end());
   r.size = glm::length(P(a) - P(b));
-  r.why = "distance " + fmt(r.size) + " across the face < feature size " + fmt(in.feature_size);
+  r.why = "distance " + fmt(r.size) + " across the face < L/2 = " + fmt(in.collapse_size);
   return r;
 }
 
@@ -536,7 +536,7 @@ bool Simplifier::collapse_pass(const std::vector<int>& cand) {
     for (int k = 0; k < 3; ++k) {
       const bool needle =
           (q > kBadShape && len[k] < 0.5 * longest) || (q > kPoorShape && len[k] < 0.25 * longest);
-      if (len[k] < in.feature_size || needle)
+      if (len[k] < in.collapse_size || needle)
         edges.emplace_back(len[k], std::min(v[k], v[(k + 1) % 3]), std::max(v[k], v[(k + 1) % 3]));
     }
   }
@@ -712,7 +712,7 @@ bool Simplifier::try_split(int t, int k, double max_height) {
   nsegs[static_cast<std::size_t>(n)].push_back(s2);
   nsegs[static_cast<std::size_t>(gb)].push_back(s2);
   eseg[static_cast<std::size_t>(e)].push_back(s2);
-  if (glm::length(P(a) - x) <= std::max(in.chordal_tol, in.feature_size)) try_collapse(a, n);
+  if (glm::length(P(a) - x) <= std::max(in.chordal_tol, in.collapse_size)) try_collapse(a, n);
   return true;
 }
 
@@ -741,9 +741,9 @@ bool Simplifier::repair_pass(const std::vector<int>& cand) {
     for (const auto& [nl, k] : ks)
       if (!done) done = try_flip(t, k, Q(t));
     // A cap of Q above kBadShape is split whatever its height; a poor one only when its
-    // apex lies closer than L to the edge (a strip narrower than L meshed as caps along
+    // apex lies closer than L / 2 to the edge (a strip narrower than that meshed as caps along
     // it, which the apex collapses onto the split points absorb).
-    if (!done) done = try_split(t, ks[0].second, Q(t) > kBadShape ? kInf : in.feature_size);
+    if (!done) done = try_split(t, ks[0].second, Q(t) > kBadShape ? kInf : in.collapse_size);
     any |= done;
   }
   return any;
@@ -833,7 +833,7 @@ void Simplifier::run() {
     double shortest = kInf;
     for (int k = 0; k < 3; ++k)
       shortest = std::min(shortest, glm::length(P(v[(k + 1) % 3]) - P(v[k])));
-    if (shortest < in.feature_size || Q(static_cast<int>(t)) > kPoorShape)
+    if (shortest < in.collapse_size || Q(static_cast<int>(t)) > kPoorShape)
       cand.push_back(static_cast<int>(t));
   }
   for (int round = 0; round < kRounds && !cand.empty(); ++round) {
@@ -883,8 +883,8 @@ void Simplifier::finish(const std::vector<double>& area0) {
     r.what = "face absorbed";
     r.faces = {static_cast<geom::Id>(f)};
     r.size = perimeter > 0 ? 2 * area0[f] / perimeter : 0.0;
-    r.why = "width " + fmt(r.size) + " (twice its area over its perimeter) against feature size " +
-            fmt(in.feature_size);
+    r.why = "width " + fmt(r.size) +
+            " (twice its area over its perimeter) against L/2 = " + fmt(in.collapse_size);
     log.push_back(std::move(r));
   }
   compact();
@@ -961,7 +961,7 @@ void Simplifier::compact() {
 }  // namespace
 
 std::vector<Simplification> simplify_mesh(const SimplifyInput& in, SurfaceMesh& mesh) {
-  if (!(in.feature_size > 0) || mesh.triangles.empty()) return {};
+  if (!(in.collapse_size > 0) || mesh.triangles.empty()) return {};
   Simplifier s(in, mesh);
   s.run();
   return std::move(s.log);
@@ -972,8 +972,8 @@ void simplify(ModelRun& run) {
   // of it they set no size but are kept: a mesh at the smallest size hmin (= L by
   // default) has unit edges down to hmin / sqrt2, which are the user's elements, not
   // artefacts, and a sliver face half as wide as its elements are long is fairly shaped.
-  const double L = 0.5 * feature_size(run.opt, run.m.bbox);
-  const SimplifyInput in{run.m, L, run.spec.chordal_tol, run.opt.feature_angle};
+  const double half = 0.5 * feature_size(run.opt, run.m.bbox);
+  const SimplifyInput in{run.m, half, run.spec.chordal_tol, run.opt.feature_angle};
   auto log = simplify_mesh(in, run.res.mesh);
   for (auto& r : log) run.res.simplified.push_back(std::move(r));
 }

@@ -3,7 +3,7 @@
 // project: edges of a micrometre, faces narrower than the size, gaps between two parts
 // of a face's boundary). Not installed.
 //
-//   SimplifyInput in{model, L, chordal_tol, feature_angle};
+//   SimplifyInput in{model, L / 2, chordal_tol, feature_angle};
 //   std::vector<Simplification> log = simplify_mesh(in, mesh);
 //
 // Every vertex stays on its model entity; the mesh only loses vertices (edge collapses),
@@ -26,7 +26,7 @@ namespace uvmesh::surface::detail {
 
 struct SimplifyInput {
   const geom::Model& model;
-  double feature_size = 0;   ///< L; 0: the stage does nothing
+  double collapse_size = 0;  ///< L / 2: what is shorter or narrower goes; 0: nothing
   double chordal_tol = 0;    ///< new triangles' centroids within it of their face; 0: unchecked
   double feature_angle = 0;  ///< radians
 };

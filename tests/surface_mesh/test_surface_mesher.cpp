@@ -600,7 +600,7 @@ TEST_CASE(
   // Strips 0.05-0.15 L wide whose two sharp edges have their nodes half a segment apart:
   // no node pair across is closer than L/2, so nothing collapsed, and the strip stayed a
   // row of caps and needles of Q 3.5-4.6 (45 and 48 triangles of Q >= 3 away from
-  // corners). Caps whose apex is within L of the edge are now split under the apex and
+  // corners). Caps whose apex is within L/2 of the edge are now split under the apex and
   // the apex collapsed there; each collapse along the row may leave a needle as bad as
   // the one it removes, up to the last.
   for (const char* name : {"cad/occt_motor.brep", "cad/nist_ctc_02.stp"}) {
