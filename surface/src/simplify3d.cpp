@@ -154,7 +154,14 @@ struct Simplifier {
   };
   Plan plan_collapse(NodeId a, NodeId b) const;
   bool collapse_allowed(NodeId a, NodeId b, bool& dissolve) const;
-  bool on_free_edge(NodeId n) const;
+  /// On an alive segment of an edge e with flag[e] set.
+  bool on_edge_where(NodeId n, const std::vector<char>& flag) const;
+  bool on_free_edge(NodeId n) const { return on_edge_where(n, free_edge); }
+  bool on_kept_edge(NodeId n) const { return on_edge_where(n, in.kept_edges); }
+  bool kept(geom::Id e) const {
+    return e >= 0 && static_cast<std::size_t>(e) < in.kept_edges.size() &&
+           in.kept_edges[static_cast<std::size_t>(e)];
+  }
   Simplification vertex_merge(NodeId a, NodeId b, const Plan& p) const;
   bool link_ok(NodeId a, NodeId b, const std::vector<int>& removed) const;
   void apply_collapse(NodeId a, NodeId b, const Plan& p);
@@ -254,6 +261,7 @@ void Simplifier::classify_edges() {
                      &f1 = m.faces[static_cast<std::size_t>(fs[1])];
     if (solid(fs[0]) != solid(fs[1])) continue;
     if (f0.name != f1.name && !(f0.name.empty() && f1.name.empty())) continue;
+    if (kept(static_cast<geom::Id>(e))) continue;
     dihedral[e] = edge_dihedral(static_cast<geom::Id>(e));
     sharp[e] = !(dihedral[e] >= 0 && dihedral[e] < in.feature_angle * 180.0 / std::numbers::pi);
   }
@@ -321,9 +329,10 @@ bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
     // like the ends of a short edge, except on a sheet's border, whose gaps are its own
     // width.
     if (s < 0)
-      return glm::length(P(a) - P(b)) < in.collapse_size && !(on_free_edge(a) && on_free_edge(b));
+      return glm::length(P(a) - P(b)) < in.collapse_size && !(on_free_edge(a) && on_free_edge(b)) &&
+             !on_kept_edge(a) && !on_kept_edge(b);
     const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
-    return e >= 0 && m.edges[static_cast<std::size_t>(e)].length < in.collapse_size;
+    return e >= 0 && !kept(e) && m.edges[static_cast<std::size_t>(e)].length < in.collapse_size;
   }
   if (dim(a) == 1) {
     if (s >= 0 && M.segments[static_cast<std::size_t>(s)].edge == ent(a)) return true;
@@ -332,6 +341,7 @@ bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
     // Not two free edges: their gap is a sheet's own width, which nothing absorbs (the
     // size field resolves it, boundary_caps.cpp).
     if (sharp[static_cast<std::size_t>(ent(a))]) {
+      if (kept(ent(a)) || (dim(b) == 1 && kept(ent(b)))) return false;
       if (free_edge[static_cast<std::size_t>(ent(a))] && dim(b) == 1 &&
           free_edge[static_cast<std::size_t>(ent(b))])
         return false;
@@ -342,11 +352,12 @@ bool Simplifier::collapse_allowed(NodeId a, NodeId b, bool& dissolve) const {
   return true;
 }
 
-bool Simplifier::on_free_edge(NodeId n) const {
+bool Simplifier::on_edge_where(NodeId n, const std::vector<char>& flag) const {
   for (int s : nsegs[static_cast<std::size_t>(n)])
     if (seg_alive[static_cast<std::size_t>(s)]) {
       const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
-      if (e >= 0 && free_edge[static_cast<std::size_t>(e)]) return true;
+      if (e >= 0 && static_cast<std::size_t>(e) < flag.size() && flag[static_cast<std::size_t>(e)])
+        return true;
     }
   return false;
 }
@@ -960,6 +971,19 @@ void Simplifier::compact() {
 
 }  // namespace
 
+std::vector<char> user_sized_edges(const geom::Model& m, const param::SizeSpec& spec) {
+  std::vector<char> kept(m.edges.size(), 0);
+  for (const auto& [e, h] : spec.edge_size)
+    if (e >= 0 && static_cast<std::size_t>(e) < kept.size()) kept[static_cast<std::size_t>(e)] = 1;
+  for (const auto& [f, h] : spec.face_size)
+    if (f >= 0 && static_cast<std::size_t>(f) < m.faces.size())
+      for (const geom::Loop& l : m.faces[static_cast<std::size_t>(f)].loops)
+        for (const geom::EdgeUse& u : l.uses)
+          if (u.edge >= 0 && static_cast<std::size_t>(u.edge) < kept.size())
+            kept[static_cast<std::size_t>(u.edge)] = 1;
+  return kept;
+}
+
 std::vector<Simplification> simplify_mesh(const SimplifyInput& in, SurfaceMesh& mesh) {
   if (!(in.collapse_size > 0) || mesh.triangles.empty()) return {};
   Simplifier s(in, mesh);
@@ -973,7 +997,8 @@ void simplify(ModelRun& run) {
   // default) has unit edges down to hmin / sqrt2, which are the user's elements, not
   // artefacts, and a sliver face half as wide as its elements are long is fairly shaped.
   const double half = 0.5 * feature_size(run.opt, run.m.bbox);
-  const SimplifyInput in{run.m, half, run.spec.chordal_tol, run.opt.feature_angle};
+  const SimplifyInput in{run.m, half, run.spec.chordal_tol, run.opt.feature_angle,
+                         user_sized_edges(run.m, run.spec)};
   auto log = simplify_mesh(in, run.res.mesh);
   for (auto& r : log) run.res.simplified.push_back(std::move(r));
 }

@@ -11,7 +11,8 @@
 // the curve) or moves face nodes of poor triangles along their face (relocation,
 // projected back onto the CAD surface). A model edge is sharp (kept as a chain of segments)
 // when its faces meet at a dihedral angle of at least the feature angle, it is free or
-// non-manifold, it separates two solids or two differently named faces, or it is a seam;
+// non-manifold, it separates two solids or two differently named faces, it is a seam, or the user
+// gave it or a face it bounds a size (never merged with another entity either);
 // any other edge is smooth and is dissolved (its segments dropped, its nodes classified
 // on one of its faces) when an operation needs to cross it.
 #pragma once
@@ -29,7 +30,13 @@ struct SimplifyInput {
   double collapse_size = 0;  ///< L / 2: what is shorter or narrower goes; 0: nothing
   double chordal_tol = 0;    ///< new triangles' centroids within it of their face; 0: unchecked
   double feature_angle = 0;  ///< radians
+  /// Per model edge (empty: none): the user gave it, or a face it bounds, a size. Such an
+  /// edge is sharp whatever its dihedral angle and is never merged with another entity.
+  std::vector<char> kept_edges;
 };
+
+/// kept_edges for the sizes `spec` gives (its edge_size and face_size entries).
+std::vector<char> user_sized_edges(const geom::Model& m, const param::SizeSpec& spec);
 
 /// Above this shape quality a triangle is a needle or a cap the stage removes.
 inline constexpr double kBadShape = 10.0;

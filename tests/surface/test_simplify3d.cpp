@@ -15,6 +15,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
@@ -101,22 +102,31 @@ bool lists(const surface::MeshResult& r, const std::string& what) {
   return false;
 }
 
-surface::MeshResult mesh(const geom::Model& m, bool keep_topology, double hmax_rel = 20) {
+surface::MeshOptions options(const geom::Model& m, bool keep_topology, double hmax_rel = 20) {
   surface::MeshOptions o;
   o.size = surface::default_size(m);
   o.size.hmax = m.bbox.diagonal() / hmax_rel;
   o.keep_topology = keep_topology;
   o.threads = 1;
-  return surface::mesh_model(m, o);
+  return o;
+}
+
+surface::MeshResult mesh(const geom::Model& m, bool keep_topology, double hmax_rel = 20) {
+  return surface::mesh_model(m, options(m, keep_topology, hmax_rel));
+}
+
+// Whether any entry of the log names face f or edge e.
+bool names(const surface::MeshResult& r, geom::Id f, geom::Id e) {
+  for (const auto& s : r.simplified)
+    if (std::find(s.faces.begin(), s.faces.end(), f) != s.faces.end() ||
+        std::find(s.edges.begin(), s.edges.end(), e) != s.edges.end())
+      return true;
+  return false;
 }
 
 // The default feature size of a mesh(m, false) run (hmax D/20).
 double feature_size_of(const geom::Model& m) {
-  surface::MeshOptions o;
-  o.size = surface::default_size(m);
-  o.size.hmax = m.bbox.diagonal() / 20;
-  o.keep_topology = false;
-  return surface::feature_size(o, m.bbox);
+  return surface::feature_size(options(m, false), m.bbox);
 }
 
 void check_clean(const geom::Model& m, const surface::MeshResult& r) {
@@ -218,6 +228,40 @@ TEST_CASE("chamfer between L/2 and L wide: kept, its triangles fair", "[simplify
     check_clean(m, r);
     CHECK(shape_of(r.mesh).Q_max < 3);
     CHECK_FALSE(lists(r, "face absorbed"));
+  }
+}
+
+// What the user gave a size to is never merged (issue 21's "never merged" list): the
+// sliver face of a small chamfer, absorbed without a size, stays when it has one, and so
+// do its edges; the split edge of a face, dissolved without a size, stays with one.
+TEST_CASE("user-sized faces and edges: never absorbed or dissolved", "[simplify3d]") {
+  {
+    const geom::Model m = chamfered_box();
+    surface::MeshOptions o = options(m, false);
+    geom::Id chamfer = geom::kNone;  // the face absorbed without a size
+    for (const auto& s : surface::mesh_model(m, o).simplified)
+      if (s.what == "face absorbed") chamfer = s.faces.at(0);
+    REQUIRE(chamfer != geom::kNone);
+    o.size.face_size[chamfer] = o.size.hmax;
+    const auto r = surface::mesh_model(m, o);
+    CHECK_FALSE(names(r, chamfer, geom::kNone));
+    for (const geom::Loop& l : m.faces[static_cast<std::size_t>(chamfer)].loops)
+      for (const geom::EdgeUse& u : l.uses) CHECK_FALSE(names(r, geom::kNone, u.edge));
+    CHECK(std::count(r.mesh.triangle_face.begin(), r.mesh.triangle_face.end(), chamfer) > 0);
+    CHECK(closed_and_oriented(r.mesh));
+  }
+  {
+    const geom::Model m = box_with_split_top();
+    surface::MeshOptions o = options(m, false);
+    const auto free_run = surface::mesh_model(m, o);
+    geom::Id split = geom::kNone;
+    for (const auto& s : free_run.simplified)
+      if (s.what == "edge dissolved") split = s.edges.at(0);
+    REQUIRE(split != geom::kNone);
+    o.size.edge_size[split] = o.size.hmax;
+    const auto r = surface::mesh_model(m, o);
+    CHECK_FALSE(names(r, geom::kNone, split));
+    CHECK(closed_and_oriented(r.mesh));
   }
 }
 
