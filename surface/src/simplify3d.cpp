@@ -6,181 +6,15 @@
 #include "simplify3d.h"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
-#include <numbers>
-#include <optional>
-#include <sstream>
+#include <map>
 #include <tuple>
 
 #include "model_run.h"
-#include "uvmesh/geom/project.h"
-#include "uvmesh/mesher2d/measures.h"
+#include "simplify3d_impl.h"
 
 namespace uvmesh::surface::detail {
 
-namespace {
-
-using geom::Vec2;
-using geom::Vec3;
-using Tri = std::array<NodeId, 3>;
-using TriUV = std::array<Vec2, 3>;
-constexpr double kInf = std::numeric_limits<double>::infinity();
-// A collapse or swap may turn no triangle by more than this (the fold guard of §7.3.6).
-const double kMaxTurn = std::cos(60.0 * std::numbers::pi / 180.0);
-constexpr int kRounds = 24;
-// What a collapse of an edge shorter than L may leave even when it is worse than before.
-constexpr double kFairShape = 2.0;
-// How much worse than the needle it removes a collapse along a needle strip may leave.
-constexpr double kStripStepSlack = 1.1;
-
-std::string fmt(double x) {
-  std::ostringstream s;
-  s.precision(3);
-  s << x;
-  return s.str();
-}
-
-double shape(const Vec3& p, const Vec3& q, const Vec3& r) {
-  const double area2 = glm::length(glm::cross(q - p, r - p));
-  if (!(area2 > 0)) return kInf;
-  return measures::shape_Q(glm::length(q - p), glm::length(r - q), glm::length(p - r), area2);
-}
-
-Vec3 unit_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
-  const Vec3 n = glm::cross(q - p, r - p);
-  const double l = glm::length(n);
-  return l > 0 ? n / l : Vec3(0.0);
-}
-
-// A triangle about to be written: its corners, face and (u,v) on that face.
-struct NewTri {
-  int slot = -1;  ///< triangle index it replaces, -1: appended
-  Tri v{};
-  geom::Id face = geom::kNone;
-  TriUV uv{};
-};
-
-struct Simplifier {
-  const SimplifyInput& in;
-  const geom::Model& m;
-  SurfaceMesh& M;
-  std::vector<Simplification> log;
-
-  std::vector<char> tri_alive, node_alive, seg_alive;
-  std::vector<std::vector<int>> vtris, nsegs, eseg;
-  std::vector<std::vector<geom::Id>> efaces;
-  std::vector<char> sharp, dissolved;
-  std::vector<char> free_edge;   ///< per model edge: used by one face once (a sheet's border)
-  std::vector<double> dihedral;  ///< per model edge, degrees (max along it)
-  std::vector<int> touched;
-  bool changed = false;
-
-  Simplifier(const SimplifyInput& i, SurfaceMesh& mesh) : in(i), m(i.model), M(mesh) {}
-
-  // ---- accessors
-  const Vec3& P(NodeId n) const { return M.points[static_cast<std::size_t>(n)]; }
-  int dim(NodeId n) const { return M.point_dim[static_cast<std::size_t>(n)]; }
-  geom::Id ent(NodeId n) const { return M.point_entity[static_cast<std::size_t>(n)]; }
-  const Tri& T(int t) const { return M.triangles[static_cast<std::size_t>(t)]; }
-  double Q(int t) const { return shape(P(T(t)[0]), P(T(t)[1]), P(T(t)[2])); }
-  /// face interior < smooth model edge < sharp model edge < model vertex
-  int rank(NodeId n) const {
-    if (dim(n) == 2) return 0;
-    if (dim(n) == 0) return 3;
-    return sharp[static_cast<std::size_t>(ent(n))] ? 2 : 1;
-  }
-  template <class F>
-  void for_tris(NodeId n, F&& f) const {
-    for (int t : vtris[static_cast<std::size_t>(n)])
-      if (tri_alive[static_cast<std::size_t>(t)] && has(T(t), n)) f(t);
-  }
-  static bool has(const Tri& v, NodeId n) { return v[0] == n || v[1] == n || v[2] == n; }
-  /// The alive segment a-b, or -1.
-  int segment(NodeId a, NodeId b) const {
-    for (int s : nsegs[static_cast<std::size_t>(a)]) {
-      const auto& g = M.segments[static_cast<std::size_t>(s)];
-      if (seg_alive[static_cast<std::size_t>(s)] && (g.a == b || g.b == b)) return s;
-    }
-    return -1;
-  }
-  std::vector<int> edge_tris(NodeId a, NodeId b) const {
-    std::vector<int> r;
-    for_tris(a, [&](int t) {
-      if (has(T(t), b)) r.push_back(t);
-    });
-    return r;
-  }
-  std::vector<NodeId> neighbours(NodeId a) const {
-    std::vector<NodeId> r;
-    for_tris(a, [&](int t) {
-      for (NodeId v : T(t))
-        if (v != a) r.push_back(v);
-    });
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
-    return r;
-  }
-  /// (u,v) of node n on face f from a triangle of f around it, the one nearest `ref`.
-  std::optional<Vec2> uv_on(NodeId n, geom::Id f, const Vec2* ref) const {
-    std::optional<Vec2> best;
-    double bd = kInf;
-    for_tris(n, [&](int t) {
-      if (M.triangle_face[static_cast<std::size_t>(t)] != f) return;
-      const Tri& v = T(t);
-      const int k = v[0] == n ? 0 : (v[1] == n ? 1 : 2);
-      const Vec2 uv = M.triangle_uv[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)];
-      const double d = ref ? glm::length(uv - *ref) : 0.0;
-      if (d < bd) bd = d, best = uv;
-    });
-    return best;
-  }
-  geom::Projection project(geom::Id f, const Vec3& x, const Vec2& seed, double scale) const {
-    const geom::Face& F = m.faces[static_cast<std::size_t>(f)];
-    return geom::project_to_surface(*F.surface, x, seed, F.uv_box, scale);
-  }
-
-  void init();
-  void classify_edges();
-  double edge_dihedral(geom::Id e) const;
-  bool place(NewTri& nt, geom::Id f0, const TriUV& hint) const;
-  bool place_on(NewTri& nt, geom::Id f, const TriUV* hint, double& dist) const;
-  struct Plan {
-    bool ok = false;
-    double worst = kInf;
-    bool dissolve = false;
-    std::vector<NewTri> tris;
-    std::vector<int> removed;
-  };
-  Plan plan_collapse(NodeId a, NodeId b) const;
-  bool collapse_allowed(NodeId a, NodeId b, bool& dissolve) const;
-  /// On an alive segment of an edge e with flag[e] set.
-  bool on_edge_where(NodeId n, const std::vector<char>& flag) const;
-  bool on_free_edge(NodeId n) const { return on_edge_where(n, free_edge); }
-  bool on_kept_edge(NodeId n) const { return on_edge_where(n, in.kept_edges); }
-  bool kept(geom::Id e) const {
-    return e >= 0 && static_cast<std::size_t>(e) < in.kept_edges.size() &&
-           in.kept_edges[static_cast<std::size_t>(e)];
-  }
-  Simplification vertex_merge(NodeId a, NodeId b, const Plan& p) const;
-  bool link_ok(NodeId a, NodeId b, const std::vector<int>& removed) const;
-  void apply_collapse(NodeId a, NodeId b, const Plan& p);
-  void write(const NewTri& nt);
-  void dissolve(geom::Id e);
-  bool try_collapse(NodeId a, NodeId b);
-  bool collapse_pass(const std::vector<int>& cand);
-  bool try_flip(int t, int k, double limit);
-  bool try_split(int t, int k, double max_height);
-  std::vector<int> poor_first(const std::vector<int>& cand) const;
-  bool repair_pass(const std::vector<int>& cand);
-  bool try_relocate(NodeId n);
-  bool relocate_pass(const std::vector<int>& cand);
-  double node_param(NodeId n, geom::Id e, double hint) const;
-  NodeId add_edge_node(geom::Id e, double t);
-  void run();
-  void finish(const std::vector<double>& area0);
-  void compact();
-};
+namespace simplify_impl {
 
 void Simplifier::init() {
   const std::size_t nn = M.points.size(), nt = M.triangles.size();
@@ -201,6 +35,24 @@ void Simplifier::init() {
   }
   efaces = geom::edge_faces(m);
   classify_edges();
+  classify_faces();
+}
+
+void Simplifier::classify_faces() {
+  std::vector<std::vector<geom::Id>> solids(m.faces.size());
+  for (std::size_t so = 0; so < m.solids.size(); ++so)
+    for (geom::Id sh : m.solids[so].shells)
+      if (sh >= 0 && static_cast<std::size_t>(sh) < m.shells.size())
+        for (geom::Id f : m.shells[static_cast<std::size_t>(sh)].faces)
+          if (f >= 0 && static_cast<std::size_t>(f) < solids.size())
+            solids[static_cast<std::size_t>(f)].push_back(static_cast<geom::Id>(so));
+  std::map<std::vector<geom::Id>, int> index;
+  solid_set.assign(m.faces.size(), 0);
+  for (std::size_t f = 0; f < solids.size(); ++f) {
+    std::sort(solids[f].begin(), solids[f].end());
+    solids[f].erase(std::unique(solids[f].begin(), solids[f].end()), solids[f].end());
+    solid_set[f] = index.emplace(solids[f], static_cast<int>(index.size())).first->second;
+  }
 }
 
 // The largest angle between the material-side normals of the edge's two faces, at the
@@ -283,7 +135,9 @@ bool Simplifier::place(NewTri& nt, geom::Id f0, const TriUV& hint) const {
   NewTri keep = nt;
   if (place_on(keep, f0, &hint, best)) nt = keep;
   for (geom::Id f : cand) {
-    if (f == f0) continue;
+    if (f == f0 ||
+        solid_set[static_cast<std::size_t>(f)] != solid_set[static_cast<std::size_t>(f0)])
+      continue;
     NewTri tr = nt;
     double d = kInf;
     if (place_on(tr, f, nullptr, d) && d < best) best = d, nt = tr;
@@ -610,229 +464,6 @@ bool Simplifier::try_flip(int t, int k, double limit) {
   write(y);
   return true;
 }
-
-// Golden-section search of the parameter in [lo, hi] of the edge's curve nearest x (one
-// minimum there: the interval is a segment of the 1D mesh or of a sampling).
-double nearest_on(const geom::Edge& E, const Vec3& x, double lo, double hi) {
-  auto d = [&](double t) { return glm::length(E.curve->point(t) - x); };
-  for (int i = 0; i < 60; ++i) {
-    const double m1 = lo + (hi - lo) * 0.381966, m2 = hi - (hi - lo) * 0.381966;
-    if (d(m1) < d(m2))
-      hi = m2;
-    else
-      lo = m1;
-  }
-  return 0.5 * (lo + hi);
-}
-
-// Parameter of the point of the edge's curve nearest x: the best of 64 samples, refined
-// by golden-section search between its neighbours (a node another edge gave this one).
-double closest_param(const geom::Edge& E, const Vec3& x) {
-  const int n = 64;
-  auto d = [&](double t) { return glm::length(E.curve->point(t) - x); };
-  int best = 0;
-  for (int i = 1; i <= n; ++i)
-    if (d(E.range.at(double(i) / n)) < d(E.range.at(double(best) / n))) best = i;
-  double lo = E.range.at(std::max(0, best - 1) / double(n)),
-         hi = E.range.at(std::min(n, best + 1) / double(n));
-  return nearest_on(E, x, lo, hi);
-}
-
-// Parameter of node n on edge e's curve (a model vertex: the end nearest `hint`).
-double Simplifier::node_param(NodeId n, geom::Id e, double hint) const {
-  const geom::Edge& E = m.edges[static_cast<std::size_t>(e)];
-  if (dim(n) == 1 && ent(n) == e) return M.point_t[static_cast<std::size_t>(n)];
-  if (dim(n) == 1) return closest_param(E, P(n));
-  const double dl = glm::length(E.curve->point(E.range.lo) - P(n)),
-               dh = glm::length(E.curve->point(E.range.hi) - P(n));
-  if (std::abs(dl - dh) > 1e-12 * (1 + dl + dh)) return dl < dh ? E.range.lo : E.range.hi;
-  return std::abs(hint - E.range.lo) < std::abs(hint - E.range.hi) ? E.range.lo : E.range.hi;
-}
-
-NodeId Simplifier::add_edge_node(geom::Id e, double t) {
-  const auto n = static_cast<NodeId>(M.points.size());
-  M.points.push_back(m.edges[static_cast<std::size_t>(e)].curve->point(t));
-  M.point_dim.push_back(1);
-  M.point_entity.push_back(e);
-  M.point_t.push_back(t);
-  node_alive.push_back(1);
-  vtris.emplace_back();
-  nsegs.emplace_back();
-  return n;
-}
-
-// A cap whose long edge lies on a sharp model edge: the edge split at the point of its
-// curve nearest the apex (when that point is closer than max_height to the apex), then
-// the apex collapsed onto it when it may be.
-bool Simplifier::try_split(int t, int k, double max_height) {
-  const Tri v = T(t);
-  const NodeId b = v[k], c = v[(k + 1) % 3], a = v[(k + 2) % 3];
-  const int s = segment(b, c);
-  if (s < 0) return false;
-  const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
-  const geom::Edge& E = m.edges[static_cast<std::size_t>(e)];
-  const auto on = edge_tris(b, c);
-  if (!E.curve || on.size() > 2) return false;
-  double t0 = node_param(b, e, dim(c) == 1 ? M.point_t[static_cast<std::size_t>(c)] : E.range.lo);
-  double t1 = node_param(c, e, t0);
-  const double tm = nearest_on(E, P(a), std::min(t0, t1), std::max(t0, t1));
-  const double span = std::abs(t1 - t0);
-  if (!(std::abs(tm - t0) > 0.05 * span && std::abs(tm - t1) > 0.05 * span)) return false;
-  const Vec3 x = E.curve->point(tm);
-  if (!(glm::length(P(a) - x) < max_height)) return false;
-  double old_worst = 0, new_worst = 0;
-  std::vector<NewTri> nts;
-  for (int tri : on) {
-    const Tri q = T(tri);
-    const int i = q[0] == b && q[1] == c
-                      ? 0
-                      : (q[1] == b && q[2] == c ? 1 : (q[2] == b && q[0] == c ? 2 : -1));
-    const int j = i >= 0 ? i : (q[0] == c && q[1] == b ? 0 : (q[1] == c && q[2] == b ? 1 : 2));
-    const NodeId p0 = q[j], p1 = q[(j + 1) % 3], p2 = q[(j + 2) % 3];
-    old_worst = std::max(old_worst, Q(tri));
-    new_worst = std::max({new_worst, shape(P(p0), x, P(p2)), shape(x, P(p1), P(p2))});
-    NewTri h0, h1;
-    h0.slot = tri;
-    h0.v = {p0, -1, p2}, h1.v = {-1, p1, p2};
-    const TriUV& uv = M.triangle_uv[static_cast<std::size_t>(tri)];
-    const Vec2 mid =
-        0.5 * (uv[static_cast<std::size_t>(j)] + uv[static_cast<std::size_t>((j + 1) % 3)]);
-    h0.face = h1.face = M.triangle_face[static_cast<std::size_t>(tri)];
-    const Vec2 um = project(h0.face, x, mid, glm::length(P(p1) - P(p0))).uv;
-    h0.uv = {uv[static_cast<std::size_t>(j)], um, uv[static_cast<std::size_t>((j + 2) % 3)]};
-    h1.uv = {um, uv[static_cast<std::size_t>((j + 1) % 3)],
-             uv[static_cast<std::size_t>((j + 2) % 3)]};
-    nts.push_back(h0);
-    nts.push_back(h1);
-  }
-  if (!(new_worst < old_worst)) return false;
-  const NodeId n = add_edge_node(e, tm);
-  for (NewTri& nt : nts) {
-    for (NodeId& w : nt.v)
-      if (w < 0) w = n;
-    write(nt);
-  }
-  auto& g = M.segments[static_cast<std::size_t>(s)];
-  const NodeId gb = g.b;
-  g.b = n;
-  nsegs[static_cast<std::size_t>(n)].push_back(s);
-  std::erase(nsegs[static_cast<std::size_t>(gb)], s);
-  M.segments.push_back({n, gb, e});
-  seg_alive.push_back(1);
-  const int s2 = static_cast<int>(M.segments.size()) - 1;
-  nsegs[static_cast<std::size_t>(n)].push_back(s2);
-  nsegs[static_cast<std::size_t>(gb)].push_back(s2);
-  eseg[static_cast<std::size_t>(e)].push_back(s2);
-  if (glm::length(P(a) - x) <= std::max(in.chordal_tol, in.collapse_size)) try_collapse(a, n);
-  return true;
-}
-
-// The candidates with Q > kPoorShape, worst first.
-std::vector<int> Simplifier::poor_first(const std::vector<int>& cand) const {
-  std::vector<std::pair<double, int>> bad;
-  for (int t : cand)
-    if (tri_alive[static_cast<std::size_t>(t)] && Q(t) > kPoorShape) bad.emplace_back(-Q(t), t);
-  std::sort(bad.begin(), bad.end());
-  std::vector<int> r;
-  for (const auto& b : bad) r.push_back(b.second);
-  return r;
-}
-
-// Triangles still poor after the collapses: swaps of their edges, longest first; caps on
-// a sharp edge split.
-bool Simplifier::repair_pass(const std::vector<int>& cand) {
-  bool any = false;
-  for (int t : poor_first(cand)) {
-    if (!tri_alive[static_cast<std::size_t>(t)] || Q(t) <= kPoorShape) continue;
-    const Tri v = T(t);
-    std::array<std::pair<double, int>, 3> ks;
-    for (int k = 0; k < 3; ++k) ks[k] = {-glm::length(P(v[(k + 1) % 3]) - P(v[k])), k};
-    std::sort(ks.begin(), ks.end());
-    bool done = false;
-    for (const auto& [nl, k] : ks)
-      if (!done) done = try_flip(t, k, Q(t));
-    // A cap of Q above kBadShape is split whatever its height; a poor one only when its
-    // apex lies closer than L / 2 to the edge (a strip narrower than that meshed as caps along
-    // it, which the apex collapses onto the split points absorb).
-    if (!done) done = try_split(t, ks[0].second, Q(t) > kBadShape ? kInf : in.collapse_size);
-    any |= done;
-  }
-  return any;
-}
-
-// Relocation (the point smoothing of the chapter's optimization step, done on the CAD
-// surface): a face node of a poor triangle moved toward the centroid of its ring and
-// projected back onto its face, at the largest of a few step fractions that lowers the
-// worst Q of the ring without turning a triangle past the fold guard. Only nodes whose
-// triangles all lie on their own face with one (u,v) (not on a seam) move, so every
-// vertex stays on its CAD face and each triangle keeps its face.
-bool Simplifier::try_relocate(NodeId n) {
-  if (dim(n) != 2) return false;
-  const geom::Id f = ent(n);
-  std::vector<int> ring;
-  std::optional<Vec2> uv0;
-  bool ok = true;
-  for_tris(n, [&](int t) {
-    if (M.triangle_face[static_cast<std::size_t>(t)] != f) ok = false;
-    const Tri& v = T(t);
-    const int k = v[0] == n ? 0 : (v[1] == n ? 1 : 2);
-    const Vec2 uv = M.triangle_uv[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)];
-    if (uv0 && glm::length(uv - *uv0) > 0) ok = false;
-    uv0 = uv;
-    ring.push_back(t);
-  });
-  if (!ok || ring.size() < 3 || !uv0) return false;
-  double old_worst = 0, area = 0, h = 0;
-  Vec3 target(0.0);
-  for (int t : ring) {
-    const Tri& v = T(t);
-    old_worst = std::max(old_worst, Q(t));
-    const double a = 0.5 * glm::length(glm::cross(P(v[1]) - P(v[0]), P(v[2]) - P(v[0])));
-    target += a * (P(v[0]) + P(v[1]) + P(v[2])) / 3.0;
-    area += a;
-    for (int k = 0; k < 3; ++k) h = std::max(h, glm::length(P(v[(k + 1) % 3]) - P(v[k])));
-  }
-  if (!(area > 0)) return false;
-  target /= area;
-  const Vec3 x0 = P(n);
-  for (double step : {1.0, 0.5, 0.25}) {
-    const geom::Projection pr = project(f, x0 + step * (target - x0), *uv0, h);
-    if (!pr.converged) continue;
-    double worst = 0;
-    bool fold = false;
-    for (int t : ring) {
-      std::array<Vec3, 3> c{P(T(t)[0]), P(T(t)[1]), P(T(t)[2])};
-      const Vec3 n0 = unit_normal(c[0], c[1], c[2]);
-      for (auto& x : c)
-        if (x == x0) x = pr.point;
-      if (glm::dot(n0, unit_normal(c[0], c[1], c[2])) < kMaxTurn) fold = true;
-      worst = std::max(worst, shape(c[0], c[1], c[2]));
-    }
-    if (fold || !(worst < old_worst)) continue;
-    M.points[static_cast<std::size_t>(n)] = pr.point;
-    for (int t : ring) {
-      const Tri& v = T(t);
-      const int k = v[0] == n ? 0 : (v[1] == n ? 1 : 2);
-      M.triangle_uv[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)] = pr.uv;
-      touched.push_back(t);
-    }
-    changed = true;
-    return true;
-  }
-  return false;
-}
-
-// The face nodes of triangles still poor after the swaps, worst triangle first.
-bool Simplifier::relocate_pass(const std::vector<int>& cand) {
-  bool any = false;
-  for (int t : poor_first(cand)) {
-    if (!tri_alive[static_cast<std::size_t>(t)] || Q(t) <= kPoorShape) continue;
-    const Tri v = T(t);
-    for (NodeId n : v) any |= try_relocate(n);
-  }
-  return any;
-}
-
 void Simplifier::run() {
   init();
   std::vector<double> area0(m.faces.size(), 0.0);
@@ -969,7 +600,9 @@ void Simplifier::compact() {
   M = std::move(out);
 }
 
-}  // namespace
+}  // namespace simplify_impl
+
+using simplify_impl::Simplifier;
 
 std::vector<char> user_sized_edges(const geom::Model& m, const param::SizeSpec& spec) {
   std::vector<char> kept(m.edges.size(), 0);

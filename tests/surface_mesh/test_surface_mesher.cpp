@@ -615,6 +615,25 @@ TEST_CASE(
 }
 
 TEST_CASE(
+    "surface mesher: the simplify stage keeps every solid of an assembly closed on its own "
+    "(caxif_as1_assembly)",
+    "[surface][feature]") {
+  // A triangle the simplify stage rewrites (a swap, a relocation) takes the face under its
+  // centroid among its corners' faces; next to an interface it took a face of one solid
+  // instead of the interface both share, and three solids lost a triangle (12, 2 and 2
+  // free edges of their own). It now only takes faces that bound the same solids.
+  io::ReadOptions ro;
+  ro.conform = true;
+  io::ReadResult rr = io::read_cad(data("cad/caxif_as1_assembly.stp"), ro);
+  REQUIRE(rr.ok);
+  const geom::Model& m = rr.model;
+  REQUIRE(m.solids.size() >= 2);
+  const surface::MeshResult r = surface::mesh_model(m, defaults(m));
+  CHECK(r.failed.empty());
+  check_solids_closed(r.mesh, m, m.solids.size());
+}
+
+TEST_CASE(
     "surface mesher: faces whose pcurves cross are triangulated from their boundary when that is "
     "valid",
     "[surface]") {
