@@ -176,6 +176,15 @@ struct Simplifier {
   bool try_flip(int t, int k, double limit);
   bool try_split(int t, int k, double max_height);
   std::vector<int> poor_first(const std::vector<int>& cand) const;
+  /// op(t) on each candidate still alive and poor (Q > kPoorShape) when its turn comes,
+  /// worst first; whether any op returned true.
+  template <class Op>
+  bool for_each_poor(const std::vector<int>& cand, Op&& op) {
+    bool any = false;
+    for (int t : poor_first(cand))
+      if (tri_alive[static_cast<std::size_t>(t)] && Q(t) > kPoorShape) any |= op(t);
+    return any;
+  }
   bool repair_pass(const std::vector<int>& cand);
   bool try_relocate(NodeId n);
   bool relocate_pass(const std::vector<int>& cand);

@@ -139,9 +139,7 @@ std::vector<int> Simplifier::poor_first(const std::vector<int>& cand) const {
 // Triangles still poor after the collapses: swaps of their edges, longest first; caps on
 // a sharp edge split.
 bool Simplifier::repair_pass(const std::vector<int>& cand) {
-  bool any = false;
-  for (int t : poor_first(cand)) {
-    if (!tri_alive[static_cast<std::size_t>(t)] || Q(t) <= kPoorShape) continue;
+  return for_each_poor(cand, [&](int t) {
     const Tri v = T(t);
     std::array<std::pair<double, int>, 3> ks;
     for (int k = 0; k < 3; ++k) ks[k] = {-glm::length(P(v[(k + 1) % 3]) - P(v[k])), k};
@@ -150,12 +148,11 @@ bool Simplifier::repair_pass(const std::vector<int>& cand) {
     for (const auto& [nl, k] : ks)
       if (!done) done = try_flip(t, k, Q(t));
     // A cap of Q above kBadShape is split whatever its height; a poor one only when its
-    // apex lies closer than L / 2 to the edge (a strip narrower than that meshed as caps along
-    // it, which the apex collapses onto the split points absorb).
+    // apex lies closer than L / 2 to the edge (a strip narrower than that meshed as caps
+    // along it, which the apex collapses onto the split points absorb).
     if (!done) done = try_split(t, ks[0].second, Q(t) > kBadShape ? kInf : in.collapse_size);
-    any |= done;
-  }
-  return any;
+    return done;
+  });
 }
 
 // Relocation (the point smoothing of the chapter's optimization step, done on the CAD
@@ -240,13 +237,11 @@ bool Simplifier::try_relocate(NodeId n) {
 
 // The face nodes of triangles still poor after the swaps, worst triangle first.
 bool Simplifier::relocate_pass(const std::vector<int>& cand) {
-  bool any = false;
-  for (int t : poor_first(cand)) {
-    if (!tri_alive[static_cast<std::size_t>(t)] || Q(t) <= kPoorShape) continue;
-    const Tri v = T(t);
-    for (NodeId n : v) any |= try_relocate(n);
-  }
-  return any;
+  return for_each_poor(cand, [&](int t) {
+    bool any = false;
+    for (NodeId n : Tri(T(t))) any |= try_relocate(n);
+    return any;
+  });
 }
 
 }  // namespace uvmesh::surface::detail::simplify_impl
