@@ -163,6 +163,15 @@ bool Simplifier::place_on(NewTri& nt, geom::Id f, const TriUV* hint, double& dis
       const Vec2 seed = hint ? (*hint)[k] : *uv[known];
       uv[k] = project(f, P(nt.v[k]), seed, h).uv;
     }
+  // One period for the three corners: on a periodic surface a node on the seam has a
+  // (u,v) on either side, and corners taken from different triangles may disagree.
+  const geom::Surface& S = *F.surface;
+  for (int k = 0; k < 3; ++k) {
+    if (S.u_periodic() && S.u_period() > 0)
+      uv[k]->x += std::round((uv[0]->x - uv[k]->x) / S.u_period()) * S.u_period();
+    if (S.v_periodic() && S.v_period() > 0)
+      uv[k]->y += std::round((uv[0]->y - uv[k]->y) / S.v_period()) * S.v_period();
+  }
   nt.face = f;
   for (int k = 0; k < 3; ++k) nt.uv[k] = *uv[k];
   const geom::Projection pc = project(f, (a + b + c) / 3.0, (*uv[0] + *uv[1] + *uv[2]) / 3.0, h);
