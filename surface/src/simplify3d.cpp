@@ -174,9 +174,21 @@ bool Simplifier::place_on(NewTri& nt, geom::Id f, const TriUV* hint, double& dis
   }
   nt.face = f;
   for (int k = 0; k < 3; ++k) nt.uv[k] = *uv[k];
-  const geom::Projection pc = project(f, (a + b + c) / 3.0, (*uv[0] + *uv[1] + *uv[2]) / 3.0, h);
-  dist = pc.distance;
+  dist = deviation(nt);
   return true;
+}
+
+// The chordal deviation of a triangle as the report measures it (check3d_chordal.cpp):
+// its centroid and edge midpoints projected onto its face, seeded at the matching (u,v).
+double Simplifier::deviation(const NewTri& nt) const {
+  const Vec3 &a = P(nt.v[0]), &b = P(nt.v[1]), &c = P(nt.v[2]);
+  const double h = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  const Vec3 xs[4] = {(a + b + c) / 3.0, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)};
+  const Vec2 us[4] = {(nt.uv[0] + nt.uv[1] + nt.uv[2]) / 3.0, 0.5 * (nt.uv[0] + nt.uv[1]),
+                      0.5 * (nt.uv[1] + nt.uv[2]), 0.5 * (nt.uv[2] + nt.uv[0])};
+  double d = 0;
+  for (int k = 0; k < 4; ++k) d = std::max(d, project(nt.face, xs[k], us[k], h).distance);
+  return d;
 }
 
 // The rank rules of simplify3d.h: lower rank onto higher; along a sharp edge only; model

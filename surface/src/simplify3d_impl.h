@@ -149,6 +149,7 @@ struct Simplifier {
   double edge_dihedral(geom::Id e) const;
   bool place(NewTri& nt, geom::Id f0, const TriUV& hint) const;
   bool place_on(NewTri& nt, geom::Id f, const TriUV* hint, double& dist) const;
+  double deviation(const NewTri& nt) const;
   struct Plan {
     bool ok = false;
     double worst = kInf;

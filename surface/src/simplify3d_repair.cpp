@@ -211,10 +211,16 @@ bool Simplifier::try_relocate(NodeId n) {
     std::vector<NewTri> others;
     bool placed = true;
     for (std::size_t i = 0; i < ring.size() && placed; ++i) {
-      if (own[i]) continue;
       NewTri nt;
       nt.slot = ring[i];
       nt.v = T(ring[i]);
+      if (own[i]) {  // same face and (u,v): only the chordal tolerance to hold
+        nt.face = f;
+        nt.uv = M.triangle_uv[static_cast<std::size_t>(nt.slot)];
+        nt.uv[static_cast<std::size_t>(corner(nt.slot, n))] = pr.uv;
+        placed = in.chordal_tol <= 0 || deviation(nt) <= in.chordal_tol;
+        continue;
+      }
       placed = place(nt, M.triangle_face[static_cast<std::size_t>(nt.slot)],
                      M.triangle_uv[static_cast<std::size_t>(nt.slot)]);
       others.push_back(nt);

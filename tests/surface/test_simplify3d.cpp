@@ -209,8 +209,10 @@ TEST_CASE("strip narrower than L/2 along an edge: absorbed, no triangle of Q >= 
     INFO("strip " << share << " L wide");
     check_clean(m, r);
     CHECK(shape_of(r.mesh).over3 == 0);
-    // Near L/2 the strip may stay, meshed fairly across (the sizes resolve it at L).
-    if (share <= 0.25) CHECK(lists(r, "face absorbed"));
+    // Wider strips may stay, meshed fairly across: absorbing them leaves triangles whose
+    // edge midpoints lie beyond the face under their centroid, which the chordal check
+    // (against that face) refuses.
+    if (share <= 0.1) CHECK(lists(r, "face absorbed"));
   }
 }
 
