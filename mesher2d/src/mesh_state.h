@@ -73,6 +73,7 @@ struct MeshState {
   std::vector<double> attr;   // region attribute
   bool field_error = false;   // the size field returned an invalid value (status set)
   bool lattice_used = false;  // lattice_points placed the field points
+  bool fronts_used = false;   // front waves (frontal.cpp) placed the field points
 
   bool fail(StatusCode c, std::string msg, std::vector<std::int64_t> ent = {});
   // Reports an invalid field value once (status InvalidInput) and sets field_error.
@@ -152,8 +153,9 @@ bool split_boundary(MeshState& ms);
 // coloring.cpp: connected components, exterior and holes removed, region attributes (§7.3.4).
 bool color_domain(MeshState& ms);
 
-// field_points.cpp, lattice.cpp: field points by edge saturation (§7.3.5, 7.5.2); a uniform
-// field first gets the equilateral lattice.
+// field_points.cpp, lattice.cpp, frontal.cpp: field points by edge saturation (§7.3.5,
+// 7.5.2; a uniform field first gets the equilateral lattice) or by front waves (§7.4.3,
+// Options::field_points), then saturation.
 void insert_field_points(MeshState& ms);
 void lattice_points(MeshState& ms, bool aniso);
 
