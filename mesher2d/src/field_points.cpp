@@ -60,7 +60,10 @@ void FieldPoints::init_vertex_metrics() {
     if (ms.rs[v] < 1) ms.vm[v] = scaled(ms.vm[v], 1.0 / (ms.rs[v] * ms.rs[v]));
 }
 
-// The triangles around the vertices the last wave inserted, and their neighbours, sorted.
+// The triangles around the vertices the last wave inserted, and their neighbours: sorted
+// for saturation (the full scan's order, see FieldPoints), in the order the points were
+// inserted for the fronts (along the front, as the last wave went; a sort of the set was
+// a twentieth of the front waves' time).
 void FieldPoints::scan_set() {
   const TriId nt = ms.tri.num_tris();
   scan.clear();
@@ -77,7 +80,7 @@ void FieldPoints::scan_set() {
       for (int i = 0; i < 3; ++i)
         if (ms.tri.twin(3 * t + i) != kNone) take(ms.tri.twin(3 * t + i) / 3);
     });
-  std::sort(scan.begin(), scan.end());
+  if (!ms.fronts_used) std::sort(scan.begin(), scan.end());
 }
 
 void FieldPoints::wave_candidates(bool subset) {

@@ -29,6 +29,16 @@ namespace uvmesh::m2d::detail {
 // bound is created by refinement.
 constexpr double kFilterDist = 0.74;
 
+// A deterministic pseudo-random number in [-1, 1) from z (a 64-bit mix): the offsets by
+// which the lattice and the front points leave degenerate (collinear, cocircular)
+// positions, so that the floating-point filter of the predicates decides their tests.
+inline double unit_jitter(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-52 - 1;
+}
+
 // "(x, y)" with every digit, for messages.
 std::string fmt_pt(Vec2 p);
 
