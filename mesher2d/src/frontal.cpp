@@ -15,10 +15,11 @@ namespace {
 // A triangle is accepted when its circumradius in the metric is at most this. The unit
 // equilateral triangle has 1/sqrt3 = 0.577; a triangle whose edges are all at the unit
 // mesh's upper bound sqrt2 has 0.816. Only nearly unit equilateral triangles are
-// accepted (0.58 passes the equilateral with edges up to 1.005): the front then goes on
-// from unit triangles only; with a looser bound (0.65-0.75) it went on from triangles of
-// Q_K up to 1.3-1.4 where fronts met, which the optimization could not repair, and on an
-// anisotropic ring the metric Q_M fell as the bound was tightened (bench/results.md).
+// accepted (0.58 passes the equilateral with edges up to 1.005), so that the front goes
+// on from unit triangles only: a looser bound lets the front go on from the distorted
+// triangles where fronts meet, and the next wave's points inherit their distortion, which
+// the optimization (fixed-topology relocation, local repair) does not undo
+// (bench/results.md).
 constexpr double kAcceptRadius = 0.58;
 // Height of the unit equilateral triangle on a unit edge.
 constexpr double kEquilateralHeight = 0.8660254037844386;

@@ -114,10 +114,13 @@ struct SizeSpec {
 //     corrected once with the metric at the point and filtered by distance. Waves run
 //     until no front point can be inserted; saturation waves then split what is still
 //     too long (narrow gaps where fronts met).
-// The default is Saturation. Frontal raises the median shape quality of varying and
-// anisotropic fields, but measured on the uniform square with a hole it is slower than
-// the lattice (bench/results.md, the section on field-point modes), so it is not the
-// default everywhere.
+// The default is Saturation, because Frontal is not at least as good everywhere it was
+// measured (bench/results.md, the field-point modes section). Frontal gives the higher
+// median shape quality on the anisotropic fields and is faster on the boundary layer,
+// but with a uniform size the lattice that saturation starts from is already equilateral
+// (the same median and Q_M under 1.2 in both modes) and builds it in about half the time
+// of the front waves; on a fine anisotropic ring frontal's metric Q_M is slightly higher
+// and it is slower. The surface stage keeps the default.
 enum class FieldPointMethod { Saturation, Frontal };
 
 struct Options {
