@@ -12,9 +12,9 @@
 
 namespace uvmesh::m2d::detail {
 
-// The saturation waves and their scratch.
+// The waves (saturation and fronts) and their scratch.
 //
-// After the first wave only the triangles around the vertices the last wave inserted,
+// Saturation: after the first wave only the triangles around the vertices the last wave inserted,
 // and their neighbours, are scanned, in triangle order as the full scan goes. Every
 // triangle made since the last scan has such a vertex; an edge older than that had
 // its points tried and rejected, and they stay rejected (vertices are only added: the
@@ -31,6 +31,8 @@ namespace uvmesh::m2d::detail {
 // points). With a varying field under a boundary gradation (every surface face), where
 // the analysed-edge set does not apply, the later waves would sample every edge again,
 // tens of times the first wave's samplings for a few thousand insertions.
+// Fronts use the same scan set, in insertion order (front_candidates says why a triangle
+// outside it needs no new look).
 struct FieldPoints {
   struct Cand {
     Vec2 p;
