@@ -3,7 +3,8 @@
 // Not a test; bench/run.sh configures, builds, runs it and writes bench/results.md.
 //
 //   bench_mesher2d [--quick] [--reps N] [--only dt|iso|aniso] [--out FILE] [--work DIR]
-//                  [--no-gmsh] [--no-bamg] [--keep] [--max-size N]      (--help explains)
+//                  [--no-gmsh] [--no-bamg] [--no-cgal] [--keep] [--max-size N]
+//                  (--help explains)
 //
 // What is measured (issue 2, "Benchmark"):
 //   dt     Delaunay triangulation of 1e5, 1e6, 4e6 uniform random points in [0,1]^2 (fixed
@@ -18,6 +19,9 @@
 //   aniso  the analytic fields bl and ring (samples/uvmesh2d/fields.h) on the unit square:
 //          ours against ffbamg (Debian freefem++) given a background grid carrying the same
 //          metric at its vertices (-b grid.mesh -M grid.mtr).
+// Ours runs in both field-point modes (Options::field_points, issue 22): saturation (the
+// default, the row the ratio column divides) and frontal, side by side in every iso and
+// aniso case.
 // Quality of every mesh, ours or not, comes from uvmesh::m2d::measure on its vertex and
 // triangle arrays with the same SizeSpec (Q_K = alpha h_max / rho_K, alpha = sqrt(3)/6; metric
 // Q_K in the mean vertex metric; unit edges: metric length in [1/sqrt2, sqrt2]).
@@ -165,17 +169,59 @@ struct Measure {
   std::string error;  // why there is no number
   double tris = 0, verts = 0, wall = kNaN, cpu = kNaN, rss_mb = kNaN;
   std::optional<m2d::Quality> q;
+  double median_q = kNaN;  // median_q() of the mesh
   std::string notes;
 };
+
+// Median over the triangles of q = 4 sqrt3 area / (sum of the squared edge lengths): 1 for
+// the equilateral, 0 for a flat triangle. This is not q_K = 1 / Q_K of eq. 7.6 (which
+// m2d::measure reports as Q_M and Q<1.5): it is the normalization the issue states its
+// median target in (Gmsh's Frontal-Delaunay reaches 0.99-1.00 in it). Each triangle is
+// measured in the mean of its three vertex metrics (identity for a uniform size), as
+// m2d::measure's metric quality.
+double median_q(const std::vector<m2d::Vec2>& v, const std::vector<std::array<m2d::VertId, 3>>& t,
+                const m2d::SizeSpec& size) {
+  if (t.empty()) return kNaN;
+  std::vector<m2d::Metric2> vm(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    vm[i] = size.kind == m2d::SizeSpec::Kind::Metric ? size.metric(v[i].x, v[i].y)
+            : size.kind == m2d::SizeSpec::Kind::Scalar
+                ? m2d::Metric2::iso(size.size(v[i].x, v[i].y))
+                : m2d::Metric2{};
+  std::vector<double> q(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const auto &a = vm[t[k][0]], &b = vm[t[k][1]], &c = vm[t[k][2]];
+    const m2d::Metric2 m{(a.m11 + b.m11 + c.m11) / 3, (a.m12 + b.m12 + c.m12) / 3,
+                         (a.m22 + b.m22 + c.m22) / 3};
+    // Area and squared lengths in the metric: det(M)^(1/2) area, e^T M e.
+    auto len2 = [&m](m2d::Vec2 p, m2d::Vec2 r) {
+      const double dx = r.x - p.x, dy = r.y - p.y;
+      return m.m11 * dx * dx + 2 * m.m12 * dx * dy + m.m22 * dy * dy;
+    };
+    const m2d::Vec2 p0 = v[t[k][0]], p1 = v[t[k][1]], p2 = v[t[k][2]];
+    const double area = 0.5 * ((p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x)) *
+                        std::sqrt(m.m11 * m.m22 - m.m12 * m.m12);
+    q[k] = 4 * std::sqrt(3.0) * area / (len2(p0, p1) + len2(p1, p2) + len2(p2, p0));
+  }
+  std::nth_element(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(q.size() / 2), q.end());
+  return q[q.size() / 2];
+}
+
+// The quality of a mesh, ours or a reference's: m2d::measure and median_q.
+void measure_quality(Measure& m, const std::vector<m2d::Vec2>& v,
+                     const std::vector<std::array<m2d::VertId, 3>>& t, const m2d::SizeSpec& size) {
+  m.q = m2d::measure(v, t, size);
+  m.median_q = median_q(v, t, size);
+}
 
 void print_result(const Measure& m) {
   std::printf("RESULT tris=%.0f verts=%.0f wall=%.9g cpu=%.9g rss_mb=%.6g", m.tris, m.verts, m.wall,
               m.cpu, m.rss_mb);
   if (m.q) {
     const auto& q = *m.q;
-    std::printf(" qmax=%.9g q15=%.9g minang=%.9g mqmax=%.9g mq15=%.9g unit=%.9g", q.q_max,
+    std::printf(" qmax=%.9g q15=%.9g minang=%.9g mqmax=%.9g mq15=%.9g unit=%.9g medq=%.9g", q.q_max,
                 q.share_q_below_1_5, q.min_angle_deg, q.metric_q_max, q.metric_share_q_below_1_5,
-                q.unit_edge_share);
+                q.unit_edge_share, m.median_q);
   }
   std::printf("\nNOTES %s\n", m.notes.c_str());
   std::fflush(stdout);
@@ -221,6 +267,7 @@ Measure parse_result(const std::string& out) {
     q.metric_q_max = kv["mqmax"];
     q.metric_share_q_below_1_5 = kv["mq15"];
     q.unit_edge_share = kv["unit"];
+    if (kv.count("medq")) m.median_q = kv["medq"];
     m.q = q;
   }
   return m;
@@ -303,12 +350,18 @@ int child_dt_cgal(std::int64_t n) {
   return 0;
 }
 
+// Options::field_points from its name on the command line ("saturation", "frontal").
+m2d::FieldPointMethod method_from(const std::string& name) {
+  return name == "frontal" ? m2d::FieldPointMethod::Frontal : m2d::FieldPointMethod::Saturation;
+}
+
 // Times one call of our mesher on (in, size) and prints its measures (child process).
-int run_ours(const m2d::Pslg& in, const m2d::SizeSpec& size) {
+int run_ours(const m2d::Pslg& in, const m2d::SizeSpec& size, m2d::FieldPointMethod method) {
   // Stats::quality off: the quality of every mesh, ours and the references', is measured
   // below by the same m2d::measure outside the timed region.
   m2d::Options opt;
   opt.measure = false;
+  opt.field_points = method;
   const double w0 = wall_now(), c0 = cpu_now();
   m2d::Result r = m2d::mesh(in, size, opt);
   const double w1 = wall_now(), c1 = cpu_now();
@@ -322,14 +375,14 @@ int run_ours(const m2d::Pslg& in, const m2d::SizeSpec& size) {
   m.cpu = c1 - c0;
   m.tris = static_cast<double>(r.mesh.triangles.size());
   m.verts = static_cast<double>(r.mesh.vertices.size());
-  m.q = m2d::measure(r.mesh.vertices, r.mesh.triangles, size);
+  measure_quality(m, r.mesh.vertices, r.mesh.triangles, size);
   m.notes = stage_notes(r.stats) + (r.ok() ? "" : "; status: " + r.status.message);
   print_result(m);
   return 0;
 }
 
-int child_iso_ours(double h) {
-  return run_ours(to_pslg(square_hole(h)), m2d::SizeSpec::uniform(h));
+int child_iso_ours(double h, const std::string& method) {
+  return run_ours(to_pslg(square_hole(h)), m2d::SizeSpec::uniform(h), method_from(method));
 }
 
 // h: boundary discretization and the size the quality is measured against; s: CGAL's size
@@ -376,14 +429,14 @@ int child_iso_cgal(double h, double s) {
   orient_ccw(v, t);
   m.tris = static_cast<double>(t.size());
   m.verts = static_cast<double>(v.size());
-  m.q = m2d::measure(v, t, m2d::SizeSpec::uniform(h));
+  measure_quality(m, v, t, m2d::SizeSpec::uniform(h));
   m.notes = "CDT insertion + refine_Delaunay_mesh_2, no Lloyd";
   print_result(m);
   return 0;
 }
 
-int child_aniso_ours(const std::string& field, double h0, double hmax) {
-  return run_ours(unit_square(), aniso_field(field, h0, hmax));
+int child_aniso_ours(const std::string& field, double h0, double hmax, const std::string& method) {
+  return run_ours(unit_square(), aniso_field(field, h0, hmax), method_from(method));
 }
 
 int run_child(int argc, char** argv) {
@@ -392,9 +445,10 @@ int run_child(int argc, char** argv) {
   auto num = [&](int i) { return i < argc ? std::strtod(argv[i], nullptr) : kNaN; };
   if (kind == "dt-ours") return child_dt_ours(static_cast<std::int64_t>(num(3)));
   if (kind == "dt-cgal") return child_dt_cgal(static_cast<std::int64_t>(num(3)));
-  if (kind == "iso-ours") return child_iso_ours(num(3));
+  const auto arg = [&](int i) { return std::string(i < argc ? argv[i] : ""); };
+  if (kind == "iso-ours") return child_iso_ours(num(3), arg(4));
   if (kind == "iso-cgal") return child_iso_cgal(num(3), num(4));
-  if (kind == "aniso-ours" && argc > 5) return child_aniso_ours(argv[3], num(4), num(5));
+  if (kind == "aniso-ours" && argc > 5) return child_aniso_ours(argv[3], num(4), num(5), arg(6));
   std::fprintf(stderr, "bench_mesher2d: unknown child '%s'\n", kind.c_str());
   return 2;
 }
@@ -658,7 +712,7 @@ Measure run_gmsh(const std::string& work, const SquareHole& d, double h, int alg
   m.rss_mb = p.rss_mb;
   m.tris = static_cast<double>(pm.t.size());
   m.verts = static_cast<double>(pm.v.size());
-  m.q = m2d::measure(pm.v, pm.t, m2d::SizeSpec::uniform(h));
+  measure_quality(m, pm.v, pm.t, m2d::SizeSpec::uniform(h));
   m.notes = "time from gmsh log 'Done meshing 2D'; whole process " + fmt("%.3g", p.wall) +
             " s wall, " + fmt("%.3g", p.cpu) + " s CPU";
   return m;
@@ -826,7 +880,7 @@ Measure run_bamg(const std::string& work, BamgCase& c, const std::string& field,
   m.rss_mb = r.proc.rss_mb;
   m.tris = static_cast<double>(pm.t.size());
   m.verts = static_cast<double>(pm.v.size());
-  m.q = m2d::measure(pm.v, pm.t, aniso_field(field, h0, hmax));
+  measure_quality(m, pm.v, pm.t, aniso_field(field, h0, hmax));
   m.notes =
       "CPU from bamg's log 'Cpu time for meshing'; wall = whole process incl. I/O (process CPU " +
       fmt("%.3g", r.proc.cpu) + " s); background: bamg's own pass-" + std::to_string(c.bg_pass) +
@@ -865,17 +919,17 @@ std::string table(const std::vector<Row>& rows, const std::string& header) {
   std::ostringstream o;
   o << header;
   o << "| benchmark | tool | triangles | wall s | CPU s | M/s CPU | M/s wall | ours ÷ this (CPU, "
-       "wall) | Q_M | Q<1.5 "
+       "wall) | median q | Q_M | Q<1.5 "
        "| min angle | metric Q_M | metric Q<1.5 | unit edges | peak RSS MB | MB / M tri | notes "
        "|\n";
-  o << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
+  o << "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
   for (const auto& r : rows) {
     const Measure& m = r.best;
     o << "| " << r.bench << " | " << r.tool << " | ";
     if (!m.ok) {
       const bool blocked = m.error.rfind("BLOCKED", 0) == 0;
-      o << "– | – | – | – | – | – | – | – | – | – | – | – | – | – | " << (blocked ? "" : "FAILED: ")
-        << m.error << " |\n";
+      o << "– | – | – | – | – | – | – | – | – | – | – | – | – | – | – | "
+        << (blocked ? "" : "FAILED: ") << m.error << " |\n";
       continue;
     }
     const double items = r.dt ? r.items : m.tris;
@@ -892,11 +946,12 @@ std::string table(const std::vector<Row>& rows, const std::string& header) {
     o << fmt("%.0f", m.tris) << " | " << fmt("%.3f", m.wall) << " | " << fmt("%.3f", m.cpu) << " | "
       << fmt("%.3f", rc) << " | " << fmt("%.3f", rw) << " | " << ratio << " | ";
     if (r.dt || !m.q) {
-      o << "– | – | – | – | – | – | ";
+      o << "– | – | – | – | – | – | – | ";
     } else {
       // Euclidean shape for the isotropic rows, shape in the metric for the anisotropic ones
       // (an anisotropic mesh is meant to be flat in the Euclidean sense).
       const auto& q = *m.q;
+      o << fmt("%.4f", m.median_q) << " | ";
       if (r.metric)
         o << "– | – | – | " << fmt("%.3f", q.metric_q_max) << " | "
           << fmt("%.1f%%", 100 * q.metric_share_q_below_1_5) << " | ";
@@ -933,7 +988,7 @@ int usage(int code) {
   std::fprintf(
       code ? stderr : stdout,
       "usage: bench_mesher2d [--quick] [--reps N] [--only dt|iso|aniso] [--out FILE] [--work DIR]\n"
-      "                      [--no-gmsh] [--no-bamg] [--keep] [--max-size N]\n"
+      "                      [--no-gmsh] [--no-bamg] [--no-cgal] [--keep] [--max-size N]\n"
       "  --quick   small sizes only (smoke run); default: the full sizes of issue 2\n"
       "  --reps N  repetitions per case, ours and references alternating (default 2, quick 1)\n"
       "  --out F   also write the Markdown table to F\n"
@@ -947,7 +1002,7 @@ int usage(int code) {
 
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "--child") return run_child(argc, argv);
-  bool quick = false, use_gmsh = true, use_bamg = true, keep = false;
+  bool quick = false, use_gmsh = true, use_bamg = true, use_cgal = true, keep = false;
   int reps = -1;
   double max_size = std::numeric_limits<double>::infinity();
   std::string only, out_path, work;
@@ -971,6 +1026,8 @@ int main(int argc, char** argv) {
       use_gmsh = false;
     else if (a == "--no-bamg")
       use_bamg = false;
+    else if (a == "--no-cgal")
+      use_cgal = false;
     else if (a == "--keep")
       keep = true;
     else if (a == "--max-size")
@@ -1077,15 +1134,22 @@ int main(int argc, char** argv) {
       std::vector<Row> rs;
       std::vector<std::function<Measure()>> fns;
       const double h = s.h;
-      rs.push_back({b, "**ours** (uniform h)", {}, true, group, false, false, 0});
-      fns.push_back([h] { return run_self({"iso-ours", num17(h)}); });
+      rs.push_back({b, "**ours** (uniform h, saturation)", {}, true, group, false, false, 0});
+      fns.push_back([h] { return run_self({"iso-ours", num17(h), "saturation"}); });
+      rs.push_back({b, "**ours** (uniform h, frontal)", {}, false, group, false, false, 0});
+      fns.push_back([h] { return run_self({"iso-ours", num17(h), "frontal"}); });
       // CGAL's size bound caps the longest edge, so with S = h its edges are mostly shorter
       // than h and it makes about twice the triangles; S = sqrt2 h (the upper end of the
       // unit-edge range) gives a mesh of about the same count as the others.
       rs.push_back({b, "CGAL Delaunay_mesher_2 (B=√2, S=h)", {}, false, group, false, false, 0});
-      fns.push_back([h] { return run_self({"iso-cgal", num17(h), num17(h)}); });
       rs.push_back({b, "CGAL Delaunay_mesher_2 (B=√2, S=√2·h)", {}, false, group, false, false, 0});
-      fns.push_back([h] { return run_self({"iso-cgal", num17(h), num17(std::sqrt(2.0) * h)}); });
+      if (use_cgal) {
+        fns.push_back([h] { return run_self({"iso-cgal", num17(h), num17(h)}); });
+        fns.push_back([h] { return run_self({"iso-cgal", num17(h), num17(std::sqrt(2.0) * h)}); });
+      } else {
+        fns.push_back(blocked("BLOCKED: --no-cgal"));
+        fns.push_back(blocked("BLOCKED: --no-cgal"));
+      }
       for (const int algo : {5, 6}) {
         rs.push_back({b,
                       std::string("gmsh -2, algo ") +
@@ -1116,11 +1180,15 @@ int main(int argc, char** argv) {
       auto bamg = std::make_shared<std::optional<BamgCase>>();  // background, built once
       std::vector<Row> rs;
       std::vector<std::function<Measure()>> fns;
-      rs.push_back({b, "**ours** (anisotropic)", {}, true, group, false, true, 0});
+      rs.push_back({b, "**ours** (anisotropic, saturation)", {}, true, group, false, true, 0});
       fns.push_back([f, h0, hmax, verts] {
-        Measure m = run_self({"aniso-ours", f, num17(h0), num17(hmax)});
+        Measure m = run_self({"aniso-ours", f, num17(h0), num17(hmax), "saturation"});
         if (m.ok) *verts = m.verts;
         return m;
+      });
+      rs.push_back({b, "**ours** (anisotropic, frontal)", {}, false, group, false, true, 0});
+      fns.push_back([f, h0, hmax] {
+        return run_self({"aniso-ours", f, num17(h0), num17(hmax), "frontal"});
       });
       rs.push_back({b,
                     "ffbamg (Debian freefem++), -b background -M metric",
@@ -1155,7 +1223,9 @@ int main(int argc, char** argv) {
           "shared: wall times are noisy, "
           "CPU times are the steadier figure. Rates: M points/s for Delaunay rows, M triangles/s "
           "otherwise. "
-          "'ours ÷ this' = our rate divided by this row's rate (> 1: ours faster). Quality by "
+          "'ours ÷ this' = our rate (saturation, the default) divided by this row's rate (> 1: "
+          "ours faster). Median q = 4√3·area / Σ edge² (median_q), in the metric for the "
+          "anisotropic rows. Quality by "
           "uvmesh::m2d::measure for every mesh (Q_K = (√3/6)·h_max/ρ_K; unit edges: metric length "
           "in "
           "[1/√2, √2], for the isotropic rows relative to h). Peak RSS: the child process right "

@@ -1,12 +1,10 @@
 // Stage 6 of mesher2d: field points by edge saturation (§7.3.5, §7.5.2), with the
 // anisotropic kernel (§7.6.1) for a metric field. A uniform field first gets the
 // equilateral lattice (lattice.cpp).
+#include "field_points.h"
+
 #include <algorithm>
 #include <cmath>
-
-#include "edge_sampling.h"
-#include "key_set.h"
-#include "mesh_state.h"
 
 namespace uvmesh::m2d::detail {
 
@@ -33,54 +31,7 @@ bool too_close_to_corner(const Triangulation& tri, TriId t, Vec2 p, const Insert
   return false;
 }
 
-// The saturation waves and their scratch.
-//
-// After the first wave only the triangles around the vertices the last wave inserted,
-// and their neighbours, are scanned, in triangle order as the full scan goes. Every
-// triangle made since the last scan has such a vertex; an edge older than that had
-// its points tried and rejected, and they stay rejected (vertices are only added: the
-// nearest vertex of a point, a cavity vertex, only comes closer; constrained edges
-// stay). Its candidates would be the same again: they depend on its ends (fixed, with
-// their metrics and boundary ratios), the field, and the two vertices opposite it
-// (the bound in edge_candidates), unchanged while its two triangles are. So the points
-// inserted are the same, in the same order, as with the full scan, but for a candidate
-// that an anisotropic cavity refused (not star-shaped: not monotone, a later wave could
-// take it) and the walk's random tie-breaks, which see fewer candidates; on surface
-// faces this gave the same counts and measures, with a few coordinates differing in
-// their last bits. With a uniform field the full scan took a third of the field-point
-// time after the lattice (three passes over a million triangles to insert a few thousand
-// points). With a varying field under a boundary gradation (every surface face), where
-// the analysed-edge set does not apply, the later waves would sample every edge again,
-// tens of times the first wave's samplings for a few thousand insertions.
-struct FieldPoints {
-  struct Cand {
-    Vec2 p;
-    VertId hint;   // the edge's first vertex
-    bool chained;  // follows the previous candidate on the same edge
-    double r = 1;  // boundary size ratio (Options::boundary_gradation)
-  };
-  enum class Next { Wave, Done, Stop };  // after a wave: another, finished, or stopped
-
-  explicit FieldPoints(MeshState& ms_) : ms(ms_), es(ms_) {}
-  void run();
-  void init_vertex_metrics();
-  void scan_set();
-  void wave_candidates(bool subset);
-  void edge_candidates(TriId t, int i);
-  Next insert_candidates(int wave);
-
-  MeshState& ms;
-  bool from_boundary = false;  // Options::boundary_gradation applies
-  bool aniso = false;          // the anisotropic cavity criterion
-  bool use_analysed = false;   // edges are analysed once (analysed)
-  std::vector<Cand> cands;
-  EdgeSampler es;
-  std::vector<VertId> born;          // the vertices the last wave inserted
-  std::vector<TriId> scan;           // the triangles the next wave scans (subset)
-  KeySet64 analysed;                 // edges (a << 32 | b) already analysed
-  std::vector<std::uint32_t> tmark;  // scan_set: triangle marks
-  std::uint32_t tepoch = 0;
-};
+}  // namespace
 
 // Every vertex's metric, and the boundary size ratios (Options::boundary_gradation).
 void FieldPoints::init_vertex_metrics() {
@@ -109,7 +60,10 @@ void FieldPoints::init_vertex_metrics() {
     if (ms.rs[v] < 1) ms.vm[v] = scaled(ms.vm[v], 1.0 / (ms.rs[v] * ms.rs[v]));
 }
 
-// The triangles around the vertices the last wave inserted, and their neighbours, sorted.
+// The triangles around the vertices the last wave inserted, and their neighbours: sorted
+// for saturation (the full scan's order, see FieldPoints), in the order the points were
+// inserted for the fronts (along the front, as the last wave went; a sort of the set was
+// a twentieth of the front waves' time).
 void FieldPoints::scan_set() {
   const TriId nt = ms.tri.num_tris();
   scan.clear();
@@ -126,7 +80,7 @@ void FieldPoints::scan_set() {
       for (int i = 0; i < 3; ++i)
         if (ms.tri.twin(3 * t + i) != kNone) take(ms.tri.twin(3 * t + i) / 3);
     });
-  std::sort(scan.begin(), scan.end());
+  if (!ms.fronts_used) std::sort(scan.begin(), scan.end());
 }
 
 void FieldPoints::wave_candidates(bool subset) {
@@ -228,7 +182,7 @@ void FieldPoints::edge_candidates(TriId t, int i) {
 }
 
 // Inserts the wave's candidates through the field-point filter.
-FieldPoints::Next FieldPoints::insert_candidates(int wave) {
+FieldPoints::Next FieldPoints::insert_candidates() {
   std::int64_t inserted = 0;
   VertId last_v = kNone;
   std::size_t since_check = 0;
@@ -258,7 +212,9 @@ FieldPoints::Next FieldPoints::insert_candidates(int wave) {
     // are rejected there without building a cavity.
     double o[3];
     const TriId t0 = ms.tri.locate(c.p, hint, o);
-    if (t0 != kNone && too_close_to_corner(ms.tri, t0, c.p, prm)) {
+    const bool off_region =
+        c.region != kNone && (t0 == kNone || !ms.in_domain(t0) || ms.tri.tag(t0) != c.region);
+    if (off_region || (t0 != kNone && too_close_to_corner(ms.tri, t0, c.p, prm))) {
       last_v = ms.tri.vertex(t0, 0);  // the next candidate of the edge walks from here
       ++ms.res.stats.field_points_rejected;
       continue;
@@ -278,28 +234,45 @@ FieldPoints::Next FieldPoints::insert_candidates(int wave) {
     }
   }
   ms.res.stats.field_points_inserted += inserted;
-  ms.res.stats.saturation_waves = wave + 1;
   return inserted == 0 ? Next::Done : Next::Wave;
+}
+
+// Waves of candidates (made by the given member) inserted through the filter, until a
+// wave makes none or inserts none; count gets the number of waves run. False when
+// refinement was stopped (time limit, max_vertices).
+bool FieldPoints::waves(void (FieldPoints::*candidates)(bool), int max_waves, int& count) {
+  for (int wave = 0; wave < max_waves && !ms.field_error; ++wave) {
+    cands.clear();
+    const bool subset = wave > 0;
+    if (subset) scan_set();
+    born.clear();
+    (this->*candidates)(subset);
+    if (cands.empty()) break;
+    if (ms.over_time("refinement")) return false;
+    const Next next = insert_candidates();
+    count = wave + 1;
+    if (next != Next::Wave) return next == Next::Done;
+  }
+  return true;
+}
+
+// The saturation waves (§7.5.2) until no edge is longer than sqrt2.
+bool FieldPoints::saturation_waves() {
+  use_analysed = !from_boundary && ms.size.kind != SizeSpec::Kind::Uniform;
+  return waves(&FieldPoints::wave_candidates, kMaxWaves, ms.res.stats.saturation_waves);
 }
 
 void FieldPoints::run() {
   init_vertex_metrics();
   aniso = ms.size.kind == SizeSpec::Kind::Metric && ms.opt.anisotropic_kernel;
-  if (ms.size.kind == SizeSpec::Kind::Uniform) lattice_points(ms, aniso);
-  use_analysed = !from_boundary && ms.size.kind != SizeSpec::Kind::Uniform;
-  for (int wave = 0; wave < kMaxWaves && !ms.field_error; ++wave) {
-    cands.clear();
-    const bool subset = wave > 0;
-    if (subset) scan_set();
-    born.clear();
-    wave_candidates(subset);
-    if (cands.empty()) break;
-    if (ms.over_time("refinement")) return;
-    if (insert_candidates(wave) != Next::Wave) return;
+  if (ms.opt.field_points == FieldPointMethod::Frontal) {
+    ms.fronts_used = true;
+    if (!front_waves()) return;
+  } else if (ms.size.kind == SizeSpec::Kind::Uniform) {
+    lattice_points(ms, aniso);
   }
+  saturation_waves();
 }
-
-}  // namespace
 
 void insert_field_points(MeshState& ms) {
   FieldPoints fp(ms);

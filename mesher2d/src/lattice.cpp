@@ -11,10 +11,7 @@ namespace {
 
 // A deterministic pseudo-random offset in [-1e-6, 1e-6) from z (see Lattice::run).
 double jitter(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return (static_cast<double>(z >> 11) * 0x1.0p-53 - 0.5) * 2e-6;
+  return unit_jitter(z) * 1e-6;
 }
 
 // The lattice insertion and its state: the domain's bounding box and area, the lattice

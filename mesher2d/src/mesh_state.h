@@ -29,6 +29,16 @@ namespace uvmesh::m2d::detail {
 // bound is created by refinement.
 constexpr double kFilterDist = 0.74;
 
+// A deterministic pseudo-random number in [-1, 1) from z (a 64-bit mix): the offsets by
+// which the lattice and the front points leave degenerate (collinear, cocircular)
+// positions, so that the floating-point filter of the predicates decides their tests.
+inline double unit_jitter(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1.0p-52 - 1;
+}
+
 // "(x, y)" with every digit, for messages.
 std::string fmt_pt(Vec2 p);
 
@@ -73,6 +83,7 @@ struct MeshState {
   std::vector<double> attr;   // region attribute
   bool field_error = false;   // the size field returned an invalid value (status set)
   bool lattice_used = false;  // lattice_points placed the field points
+  bool fronts_used = false;   // front waves (frontal.cpp) placed the field points
 
   bool fail(StatusCode c, std::string msg, std::vector<std::int64_t> ent = {});
   // Reports an invalid field value once (status InvalidInput) and sets field_error.
@@ -152,8 +163,9 @@ bool split_boundary(MeshState& ms);
 // coloring.cpp: connected components, exterior and holes removed, region attributes (§7.3.4).
 bool color_domain(MeshState& ms);
 
-// field_points.cpp, lattice.cpp: field points by edge saturation (§7.3.5, 7.5.2); a uniform
-// field first gets the equilateral lattice.
+// field_points.cpp, lattice.cpp, frontal.cpp: field points by edge saturation (§7.3.5,
+// 7.5.2; a uniform field first gets the equilateral lattice) or by front waves (§7.4.3,
+// Options::field_points), then saturation.
 void insert_field_points(MeshState& ms);
 void lattice_points(MeshState& ms, bool aniso);
 

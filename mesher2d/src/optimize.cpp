@@ -257,10 +257,11 @@ std::int64_t Optimizer::valence_pass() {
 
 void Optimizer::run() {
   iso_uniform_ = ms.size.kind == SizeSpec::Kind::Uniform;
-  if (ms.lattice_used) {
-    // Lattice field points: the interior is equilateral already; only the band along
-    // the boundary and the lattice's seam with the boundary layer need work, found by
-    // their quality (global passes would spend their time on perfect triangles).
+  if (ms.lattice_used || (ms.fronts_used && iso_uniform_)) {
+    // Lattice or front field points of a uniform field: the interior is equilateral
+    // already; only the band along the boundary and the lattice's seam with the boundary
+    // layer (where fronts meet) need work, found by their quality (global passes would
+    // spend their time on nearly perfect triangles).
     const std::vector<VertId> handled = targeted_pass(kMaxminStop, 4);
     repair(kRepairBad, 12, &handled);
     return;

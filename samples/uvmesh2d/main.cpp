@@ -81,7 +81,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> metric_files;
   std::string metric_fn;
   bool no_refine = false, split_crossing = false, no_optimize = false, quiet = false, json = false,
-       check = false;
+       check = false, frontal = false;
   std::int64_t max_vertices = 0;
 
   app.add_option("input", input, "Domain: Triangle .poly file")->required();
@@ -102,6 +102,9 @@ int run(int argc, char** argv) {
                "Constrained Delaunay triangulation only (no field points)");
   app.add_flag("--split-crossing", split_crossing, "Split crossing segments instead of failing");
   app.add_flag("--no-optimize", no_optimize, "Skip the optimization stage (swaps, relocation)");
+  app.add_flag("--frontal", frontal,
+               "Frontal field points (advancing-front-Delaunay, section 7.4.3) instead of edge "
+               "saturation");
   app.add_flag("--check", check, "Run the mesh checker; a failed check exits with status 3");
   app.add_option("--max-vertices", max_vertices,
                  "Stop refining beyond N vertices (mesh Incomplete)");
@@ -181,6 +184,7 @@ int run(int argc, char** argv) {
   m2d::Options opt;
   opt.refine = !no_refine;
   opt.optimize = !no_optimize;
+  if (frontal) opt.field_points = m2d::FieldPointMethod::Frontal;
   opt.split_crossing_segments = split_crossing;
   if (max_vertices > 0) opt.max_vertices = max_vertices;
   c2::RegionSize rs = c2::apply_region_max_area(pd, spec, opt);

@@ -56,8 +56,10 @@ void print_poly(const m2d::Pslg& p, std::FILE* out) {
   std::fprintf(stderr, "fuzz_poly_mesh2d: %s: %s\n", what, detail.c_str());
   std::fprintf(
       stderr,
-      "fuzz_poly_mesh2d: uniform size %g, split_crossing_segments %d, optimize %d; the PSLG:\n", h,
-      opt.split_crossing_segments ? 1 : 0, opt.optimize ? 1 : 0);
+      "fuzz_poly_mesh2d: uniform size %g, split_crossing_segments %d, optimize %d, frontal %d; "
+      "the PSLG:\n",
+      h, opt.split_crossing_segments ? 1 : 0, opt.optimize ? 1 : 0,
+      opt.field_points == m2d::FieldPointMethod::Frontal ? 1 : 0);
   print_poly(p, stderr);
   std::abort();
 }
@@ -122,6 +124,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   opt.max_vertices = 4000;  // a refinement that does not stop is found as a slow unit
   opt.split_crossing_segments = (size / 4) % 2 == 1;
   opt.optimize = (size / 8) % 2 == 0;
+  // Both field-point methods (saturation, frontal), by the next bit of the length.
+  opt.field_points =
+      (size / 16) % 2 == 0 ? m2d::FieldPointMethod::Saturation : m2d::FieldPointMethod::Frontal;
   const m2d::Result res = m2d::mesh(p, size_spec, opt);
   if (res.status.code == m2d::StatusCode::InternalError)
     finding("InternalError", res.status.message, p, h, opt);

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "field_point_methods.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 
 using namespace uvmesh::m2d;
@@ -27,8 +28,8 @@ double h_field(double x, double y) {
   return 0.2 + 0.05 * x + 0.02 * y;
 }
 
-Options surface_like(double gradation) {
-  Options o;
+Options surface_like(double gradation, FieldPointMethod method = FieldPointMethod::Saturation) {
+  Options o = method_options(method);
   o.split_segments = false;  // keep the fine boundary as given
   o.boundary_gradation = gradation;
   return o;
@@ -38,7 +39,9 @@ Options surface_like(double gradation) {
 
 TEST_CASE("boundary_scale: vertex_metric is the field's metric times the scale", "[boundary]") {
   const Pslg in = square_fine_bottom(40);
-  const Result r = mesh(in, SizeSpec::scalar(h_field), surface_like(1.3));
+  const FieldPointMethod method = FIELD_POINT_METHOD;
+  INFO(method_name(method));
+  const Result r = mesh(in, SizeSpec::scalar(h_field), surface_like(1.3, method));
   REQUIRE(r.ok());
   const Mesh& m = r.mesh;
   REQUIRE(m.vertex_metric.size() == m.vertices.size());

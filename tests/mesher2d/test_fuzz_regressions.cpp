@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "field_point_methods.h"
 #include "uvmesh/mesher2d/check.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 #include "uvmesh2d/poly.h"
@@ -22,7 +23,9 @@ void mesher2d_finding(const std::string& file, double h) {
   const uvmesh::cli2d::PolyRead pr = uvmesh::cli2d::read_poly(data_file(file));
   INFO(file);
   REQUIRE(pr.ok());
-  uvmesh::m2d::Options opt;
+  const uvmesh::m2d::FieldPointMethod method = FIELD_POINT_METHOD;
+  INFO(method_name(method));
+  uvmesh::m2d::Options opt = method_options(method);
   opt.optimize = false;
   opt.max_vertices = 4000;
   for (const bool refine : {true, false}) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "field_point_methods.h"
 #include "pslg_gen.h"
 #include "uvmesh/mesher2d/check.h"
 #include "uvmesh/mesher2d/mesher2d.h"
@@ -157,13 +158,14 @@ TEST_CASE("CDT of random PSLGs of every family is valid and Delaunay", "[invaria
 // leaves nothing inside holes.
 TEST_CASE("refined meshes of random PSLGs are valid, with regions and holes respected",
           "[invariants][refine]") {
+  const FieldPointMethod method = FIELD_POINT_METHOD;
   for (const auto& fam : gen::families()) {
     Failures f;
     for (std::uint64_t seed = 1; seed <= kRefineSeeds; ++seed) {
       const gen::Case c = fam.make(seed);
       ++f.cases;
       Result r;
-      Options o;
+      Options o = method_options(method);
       o.max_vertices = 2'000'000;
       if (!run(c, SizeSpec::uniform(c.h), o, r, f)) continue;
       if (!r.ok()) {
@@ -204,7 +206,7 @@ TEST_CASE("refined meshes of random PSLGs are valid, with regions and holes resp
         }
       }
     }
-    INFO("family " << fam.name);
+    INFO("family " << fam.name << ", " << method_name(method));
     f.report();
   }
 }

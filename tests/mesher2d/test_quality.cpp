@@ -9,6 +9,8 @@
 #include <cmath>
 #include <string>
 
+#include "bench_domain.h"
+#include "field_point_methods.h"
 #include "samples/uvmesh2d/fields.h"
 #include "uvmesh/mesher2d/check.h"
 #include "uvmesh/mesher2d/mesher2d.h"
@@ -57,16 +59,16 @@ void require_valid(const Result& r, const Pslg& in) {
 }
 
 // The isotropic thresholds at uniform size h.
-Result require_uniform_quality(const Pslg& in, double h) {
-  Result r = mesh(in, SizeSpec::uniform(h));
+Result require_uniform_quality(const Pslg& in, double h, FieldPointMethod method) {
+  Result r = mesh(in, SizeSpec::uniform(h), method_options(method));
   require_valid(r, in);
   const Quality& q = r.stats.quality;
-  INFO("h = " << h << " Q_M = " << q.q_max << " min angle " << q.min_angle_deg << " unit "
-              << q.unit_edge_share);
+  INFO(method_name(method) << ", h = " << h << " Q_M = " << q.q_max << " min angle "
+                           << q.min_angle_deg << " unit " << q.unit_edge_share);
   CHECK(q.unit_edge_share >= 0.95);
   CHECK(q.q_max <= 1.2);
   CHECK(q.min_angle_deg >= 40);
-  // Most triangles near-equilateral (the lattice); the rest is the band along the
+  // Most triangles near-equilateral (the lattice, or the fronts); the rest is the band along the
   // boundary, a larger share on coarse meshes (measured 0.71 at h = 0.03 with the hole).
   CHECK(share_below(r.mesh, SizeSpec::uniform(h), 1.1) >= 0.65);
   return r;
@@ -75,8 +77,9 @@ Result require_uniform_quality(const Pslg& in, double h) {
 }  // namespace
 
 TEST_CASE("uniform size on the unit square: unit edges and shape", "[quality]") {
+  const FieldPointMethod method = FIELD_POINT_METHOD;
   for (const double h : {0.05, 0.02, 0.01}) {
-    const Result r = require_uniform_quality(unit_square(), h);
+    const Result r = require_uniform_quality(unit_square(), h, method);
     // The triangle count of a unit mesh is close to the area over the area of a unit
     // equilateral triangle (sqrt(3)/4 h^2).
     const double expected = 1.0 / (0.4330127018922193 * h * h);
@@ -86,49 +89,34 @@ TEST_CASE("uniform size on the unit square: unit edges and shape", "[quality]") 
 }
 
 TEST_CASE("uniform size on the square with a circular hole", "[quality]") {
+  const FieldPointMethod method = FIELD_POINT_METHOD;
   for (const double h : {0.03, 0.01}) {
     // The hole's polygon has edges of about h, as a boundary discretized at size h has.
     require_uniform_quality(
-        square_with_hole(static_cast<int>(std::lround(2 * 3.14159265358979 * 0.25 / h))), h);
+        square_with_hole(static_cast<int>(std::lround(2 * 3.14159265358979 * 0.25 / h))), h,
+        method);
   }
 }
 
 TEST_CASE("uniform size on the square with a hole as the bench discretizes it", "[quality]") {
-  // bench_mesher2d's domain: every boundary piece shorter than h (ceil(1/h) per side of the
-  // square, ceil(2 pi r / h) on the circle), so that the boundary spacing is not h and the
-  // corners' 90-degree angles meet pieces of 1/ceil(1/h).
-  const double pi = 3.14159265358979323846;
+  // bench_mesher2d's domain (bench_domain.h).
+  const FieldPointMethod method = FIELD_POINT_METHOD;
   for (const double h : {0.0095, 0.0043}) {
-    Pslg in;
-    const int ns = static_cast<int>(std::ceil(1.0 / h));
-    const Vec2 c[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-    for (int k = 0; k < 4; ++k)
-      for (int i = 0; i < ns; ++i) {
-        const double t = static_cast<double>(i) / ns;
-        in.points.push_back(
-            {c[k].x + t * (c[(k + 1) % 4].x - c[k].x), c[k].y + t * (c[(k + 1) % 4].y - c[k].y)});
-      }
-    const int n0 = static_cast<int>(in.points.size());
-    for (int i = 0; i < n0; ++i) in.segments.push_back({i, (i + 1) % n0, 1});
-    const int nc = static_cast<int>(std::ceil(2 * pi * 0.25 / h));
-    for (int i = 0; i < nc; ++i)
-      in.points.push_back(
-          {0.5 + 0.25 * std::cos(2 * pi * i / nc), 0.5 + 0.25 * std::sin(2 * pi * i / nc)});
-    for (int i = 0; i < nc; ++i) in.segments.push_back({n0 + i, n0 + (i + 1) % nc, 2});
-    in.holes.push_back({0.5, 0.5});
-    require_uniform_quality(in, h);
+    const Pslg in = bench_square_with_hole(h);
+    require_uniform_quality(in, h, method);
   }
 }
 
 // The thresholds for a varying field on the unit square: >= 95% unit edges,
 // metric Q_M <= 2, >= 95% of triangles with metric Q < 1.5. Returns the quality.
-Quality require_field_quality(const std::string& name, const SizeSpec& s) {
+Quality require_field_quality(const std::string& name, const SizeSpec& s, FieldPointMethod method) {
   const Pslg in = unit_square();
-  const Result r = mesh(in, s);
+  const Result r = mesh(in, s, method_options(method));
   require_valid(r, in);
   const Quality& q = r.stats.quality;
-  INFO(name << ": " << r.mesh.triangles.size() << " triangles, metric Q_M = " << q.metric_q_max
-            << " share<1.5 " << q.metric_share_q_below_1_5 << " unit " << q.unit_edge_share);
+  INFO(method_name(method) << ", " << name << ": " << r.mesh.triangles.size()
+                           << " triangles, metric Q_M = " << q.metric_q_max << " share<1.5 "
+                           << q.metric_share_q_below_1_5 << " unit " << q.unit_edge_share);
   CHECK(q.unit_edge_share >= 0.95);
   CHECK(q.metric_q_max <= 2);
   CHECK(q.metric_share_q_below_1_5 >= 0.95);
@@ -136,13 +124,14 @@ Quality require_field_quality(const std::string& name, const SizeSpec& s) {
 }
 
 TEST_CASE("linear isotropic field: unit edges", "[quality]") {
-  require_field_quality("linear:0.005,0.05", fields::linear(0.005, 0.05));
+  require_field_quality("linear:0.005,0.05", fields::linear(0.005, 0.05), FIELD_POINT_METHOD);
 }
 
 TEST_CASE("anisotropic boundary layer bl: metric quality and unit edges", "[quality][aniso]") {
+  const FieldPointMethod method = FIELD_POINT_METHOD;
   for (const auto& [h0, hmax] : {std::pair{0.005, 0.05}, std::pair{0.001, 0.02}}) {
     const Quality q = require_field_quality("bl:" + std::to_string(h0) + "," + std::to_string(hmax),
-                                            fields::bl(h0, hmax));
+                                            fields::bl(h0, hmax), method);
     // Anisotropy is real: Euclidean shapes are stretched (bl asks for up to hmax/h0 : 1).
     CHECK(q.q_max > 3);
   }
@@ -157,16 +146,17 @@ TEST_CASE("anisotropic ring: metric quality and unit edges", "[quality][aniso]")
   // repair or size pass in the metric it gave metric Q_M 6.3, 92.9% under 1.5 and 91.3%
   // unit edges (ring:2e-4,0.015: 6.4, 91%, 89%); the worst triangles all lay within 10 h0
   // of the circle, where the metric turns by 2-3 degrees per tangential element.
+  const FieldPointMethod method = FIELD_POINT_METHOD;
   for (const auto& [h0, hmax] : {std::pair{0.002, 0.02}, std::pair{0.0001, 0.01}})
     require_field_quality("ring:" + std::to_string(h0) + "," + std::to_string(hmax),
-                          fields::ring(h0, hmax));
+                          fields::ring(h0, hmax), method);
 }
 
 TEST_CASE("uniform field: vertices of the boundary stay where the input put them", "[quality]") {
   // The surface stage relies on this: with split_segments off, the boundary vertices are
   // exactly the input points and no other vertex lies on a segment.
   Pslg in = square_with_hole(64);
-  Options o;
+  Options o = method_options(FIELD_POINT_METHOD);
   o.split_segments = false;
   const Result r = mesh(in, SizeSpec::uniform(0.02), o);
   require_valid(r, in);

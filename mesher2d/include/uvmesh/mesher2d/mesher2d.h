@@ -16,10 +16,15 @@
 //   3. Delaunay triangulation in a box       (§7.3.2, kernel T(i+1) = T(i) - C(P) + B(P))
 //   4. boundary enforcement by swaps         (§7.2.2)
 //   5. domain coloring                       (§7.3.4): exterior and holes removed, regions
-//   6. field points by edge saturation       (§7.3.5, 7.5.2), anisotropic kernel (§7.6.1);
+//   6. field points (Options::field_points)  anisotropic kernel (§7.6.1) for a metric field.
+//                                            Saturation: edge saturation (§7.3.5, 7.5.2);
 //                                            a uniform field first gets corner bisector
 //                                            points, the boundary edges' optimal points
-//                                            (§7.4.3) and the equilateral lattice of side h
+//                                            (§7.4.3) and the equilateral lattice of side h.
+//                                            Frontal: waves of optimal points on the front
+//                                            between accepted and unaccepted triangles
+//                                            (§7.4.3, combined advancing-front-Delaunay);
+//                                            saturation waves then close what it left
 //   7. optimization                          (§7.3.6): quality swaps, relocation in the metric;
 //                                            max-min relocation and a repair of bad
 //                                            triangles (swaps, edge collapse and split:
@@ -98,6 +103,26 @@ struct SizeSpec {
   }
 };
 
+// How field points are placed (stage 6).
+//   Saturation: points at unit spacing along the edges of the current mesh, wave after wave
+//     (§7.3.5, §7.5.2); a uniform field starts from the equilateral lattice.
+//   Frontal: the combined advancing-front-Delaunay method of §7.4.3. A triangle is accepted
+//     when its circumradius in the metric is that of a unit triangle within a margin; the
+//     front is the edges between an accepted triangle (or the boundary) and an unaccepted
+//     one, and each front edge gets the point that makes a unit equilateral triangle with
+//     it in the metric at the edge, kept inside the unaccepted triangle's circumdisk,
+//     corrected once with the metric at the point and filtered by distance. Waves run
+//     until no front point can be inserted; saturation waves then split what is still
+//     too long (narrow gaps where fronts met).
+// The default is Saturation, because Frontal is not at least as good everywhere it was
+// measured (bench/results.md, the field-point modes section). Frontal gives the higher
+// median shape quality on the anisotropic fields and is faster on the boundary layer,
+// but with a uniform size the lattice that saturation starts from is already equilateral
+// (the same median and Q_M under 1.2 in both modes) and builds it in about half the time
+// of the front waves; on a fine anisotropic ring frontal's metric Q_M is slightly higher
+// and it is slower. The surface stage keeps the default.
+enum class FieldPointMethod { Saturation, Frontal };
+
 struct Options {
   bool refine = true;                    // false: constrained Delaunay triangulation only
   bool split_segments = true;            // discretize input segments at unit length first;
@@ -115,6 +140,7 @@ struct Options {
   // Segments with a negative marker impose nothing (e.g. the collapsed side of a pole,
   // short in the plane but not a size anyone asked for).
   double boundary_gradation = 0;
+  FieldPointMethod field_points = FieldPointMethod::Saturation;
   bool optimize = true;
   // Size optimization of a varying field (§7.5.2): edges longer than sqrt2 in the metric
   // are split, and with this on, edges shorter than 1/sqrt2 are collapsed. Off where the
@@ -197,6 +223,7 @@ struct Stats {
   std::int64_t field_points_inserted = 0;
   std::int64_t field_points_rejected = 0;
   int saturation_waves = 0;
+  int frontal_waves = 0;  // Options::field_points == Frontal: front waves run
   std::int64_t swaps = 0, relocations = 0;
   Quality quality;
 };
