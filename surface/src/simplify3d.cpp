@@ -281,8 +281,10 @@ Simplifier::Plan Simplifier::plan_collapse(NodeId a, NodeId b) const {
   // a row of needles is absorbed one cross edge at a time, and only the last collapse
   // clears it.
   const bool short_edge = glm::length(P(a) - P(b)) < in.collapse_size;
-  const bool strip_step =
-      short_edge && removed_worst > kPoorShape && p.worst <= kStripStepSlack * removed_worst;
+  // Steps along a strip never go beyond the worst triangle the stage started from, so
+  // that the slack cannot compound from one step to the next.
+  const bool strip_step = short_edge && removed_worst > kPoorShape &&
+                          p.worst <= kStripStepSlack * removed_worst && p.worst <= start_worst;
   if (!ok || !(p.worst <= old_worst || (old_worst > kBadShape && p.worst < kBadShape) ||
                (short_edge && p.worst < kFairShape) || strip_step))
     return p;
@@ -496,6 +498,7 @@ void Simplifier::run() {
     double shortest = kInf;
     for (int k = 0; k < 3; ++k)
       shortest = std::min(shortest, glm::length(P(v[(k + 1) % 3]) - P(v[k])));
+    start_worst = std::max(start_worst, Q(static_cast<int>(t)));
     if (shortest < in.collapse_size || Q(static_cast<int>(t)) > kPoorShape)
       cand.push_back(static_cast<int>(t));
   }

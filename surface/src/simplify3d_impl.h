@@ -75,6 +75,7 @@ struct Simplifier {
   /// moves to a face of another set: each solid's own triangles stay a closed surface.
   std::vector<int> solid_set;
   std::vector<int> touched;
+  double start_worst = 0;  ///< the worst Q of the mesh the stage was given
   bool changed = false;
 
   Simplifier(const SimplifyInput& i, SurfaceMesh& mesh) : in(i), m(i.model), M(mesh) {}
