@@ -82,18 +82,15 @@ ChordalReport measure_chordal(const SurfaceMesh& m, const geom::Model& model, in
       const auto& uv = m.triangle_uv[t];
       const double h =
           std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
-      const Vec3 xs[4] = {(c[0] + c[1] + c[2]) / 3.0, 0.5 * (c[0] + c[1]), 0.5 * (c[1] + c[2]),
-                          0.5 * (c[2] + c[0])};
-      const Vec2 us[4] = {(uv[0] + uv[1] + uv[2]) / 3.0, 0.5 * (uv[0] + uv[1]),
-                          0.5 * (uv[1] + uv[2]), 0.5 * (uv[2] + uv[0])};
+      const ChordalSamples cs = chordal_samples(c, uv);
       for (int k = 0; k < 4; ++k) {
-        const geom::Projection p = geom::project_to_surface(s, xs[k], us[k], box, h);
+        const geom::Projection p = geom::project_to_surface(s, cs.x[k], cs.uv[k], box, h);
         ++out.samples;
         out.not_converged += !p.converged;
         out.sum += p.distance;
         if (p.distance > out.max || out.worst.triangle < 0) {
           out.max = std::max(out.max, p.distance);
-          out.worst = {t, f, k, xs[k], p.point, p.uv, p.distance};
+          out.worst = {t, f, k, cs.x[k], p.point, p.uv, p.distance};
         }
       }
     }

@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <queue>
 #include <vector>
@@ -23,6 +24,20 @@ inline constexpr double kPi = 3.14159265358979323846;
 // Arena of `threads` workers (0: TBB's default, all cores).
 inline tbb::task_arena make_arena(int threads) {
   return threads > 0 ? tbb::task_arena(threads) : tbb::task_arena();
+}
+
+// Where a triangle's chordal deviation is measured (measure_chordal, and the simplify
+// stage holding the tolerance): its centroid and edge midpoints, with the matching (u,v)
+// as the seeds of their projections onto its face.
+struct ChordalSamples {
+  Vec3 x[4];
+  Vec2 uv[4];
+};
+inline ChordalSamples chordal_samples(const std::array<Vec3, 3>& c, const std::array<Vec2, 3>& uv) {
+  return {
+      {(c[0] + c[1] + c[2]) / 3.0, 0.5 * (c[0] + c[1]), 0.5 * (c[1] + c[2]), 0.5 * (c[2] + c[0])},
+      {(uv[0] + uv[1] + uv[2]) / 3.0, 0.5 * (uv[0] + uv[1]), 0.5 * (uv[1] + uv[2]),
+       0.5 * (uv[2] + uv[0])}};
 }
 
 enum TriState : std::int8_t { kValid = 0, kBadIndex = 1, kRepeated = 2 };

@@ -9,6 +9,7 @@
 #include <map>
 #include <tuple>
 
+#include "check3d_internal.h"
 #include "model_run.h"
 #include "simplify3d_impl.h"
 
@@ -179,15 +180,14 @@ bool Simplifier::place_on(NewTri& nt, geom::Id f, const TriUV* hint, double& dis
 }
 
 // The chordal deviation of a triangle as the report measures it (check3d_chordal.cpp):
-// its centroid and edge midpoints projected onto its face, seeded at the matching (u,v).
+// its chordal_samples() projected onto its face.
 double Simplifier::deviation(const NewTri& nt) const {
-  const Vec3 &a = P(nt.v[0]), &b = P(nt.v[1]), &c = P(nt.v[2]);
-  const double h = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-  const Vec3 xs[4] = {(a + b + c) / 3.0, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)};
-  const Vec2 us[4] = {(nt.uv[0] + nt.uv[1] + nt.uv[2]) / 3.0, 0.5 * (nt.uv[0] + nt.uv[1]),
-                      0.5 * (nt.uv[1] + nt.uv[2]), 0.5 * (nt.uv[2] + nt.uv[0])};
+  const std::array<Vec3, 3> c{P(nt.v[0]), P(nt.v[1]), P(nt.v[2])};
+  const double h =
+      std::max({glm::length(c[1] - c[0]), glm::length(c[2] - c[1]), glm::length(c[0] - c[2])});
+  const check3d_impl::ChordalSamples cs = check3d_impl::chordal_samples(c, nt.uv);
   double d = 0;
-  for (int k = 0; k < 4; ++k) d = std::max(d, project(nt.face, xs[k], us[k], h).distance);
+  for (int k = 0; k < 4; ++k) d = std::max(d, project(nt.face, cs.x[k], cs.uv[k], h).distance);
   return d;
 }
 

@@ -131,9 +131,8 @@ struct Simplifier {
     double bd = kInf;
     for_tris(n, [&](int t) {
       if (M.triangle_face[static_cast<std::size_t>(t)] != f) return;
-      const Tri& v = T(t);
-      const int k = v[0] == n ? 0 : (v[1] == n ? 1 : 2);
-      const Vec2 uv = M.triangle_uv[static_cast<std::size_t>(t)][static_cast<std::size_t>(k)];
+      const Vec2 uv =
+          M.triangle_uv[static_cast<std::size_t>(t)][static_cast<std::size_t>(corner(t, n))];
       const double d = ref ? glm::length(uv - *ref) : 0.0;
       if (d < bd) bd = d, best = uv;
     });
