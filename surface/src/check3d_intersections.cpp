@@ -342,6 +342,80 @@ std::vector<std::size_t> pairs_intersecting_in_model(const SurfaceMesh& m, const
   return out;
 }
 
+namespace {
+
+// Each valid, non-degenerate triangle's box (ok[t] = 1); the rest counted as skipped.
+struct TriangleBoxes {
+  std::vector<Aabb> boxes;
+  std::vector<char> ok;
+};
+TriangleBoxes triangle_boxes(const SurfaceMesh& m, IntersectionReport& r) {
+  const std::size_t nt = m.triangles.size();
+  TriangleBoxes b{std::vector<Aabb>(nt), std::vector<char>(nt, 0)};
+  tbb::parallel_for(std::size_t(0), nt, [&](std::size_t t) {
+    if (tri_state(m, t) != kValid) return;
+    const pred3::Tri c = corners(m, t);
+    if (pred3::projection_axis(c) < 0) return;
+    b.ok[t] = 1;
+    b.boxes[t] = {glm::min(c[0], glm::min(c[1], c[2])), glm::max(c[0], glm::max(c[1], c[2]))};
+  });
+  for (std::size_t t = 0; t < nt; ++t) r.skipped_degenerate += !b.ok[t];
+  return b;
+}
+
+// A thread's share of the pair tests: counts and the first pairs that intersect.
+struct PairTests {
+  const SurfaceMesh* m;
+  std::size_t candidates = 0, hits = 0;
+  SmallestK<std::pair<TriId, TriId>> first;
+  PairTests(const SurfaceMesh* mesh, std::size_t k) : m(mesh), first(k) {}
+  void operator()(TriId t, TriId u) {
+    ++candidates;
+    PairKind kind;
+    if (pair_intersects(*m, t, u, kind)) {
+      ++hits;
+      first.push({t, u});
+    }
+  }
+};
+
+void add_pairs(const SurfaceMesh& m, tbb::enumerable_thread_specific<PairTests>& tls,
+               std::size_t cap, IntersectionReport& r) {
+  SmallestK<std::pair<TriId, TriId>> first(cap);
+  for (PairTests& L : tls) {
+    r.candidate_pairs += L.candidates;
+    r.intersecting_pairs += L.hits;
+    first.merge(L.first);
+  }
+  for (const auto& [a, b] : first.sorted())
+    r.pairs.push_back(
+        {a, b, face_of(m, a), face_of(m, b), pair_kind(m.triangles[a], m.triangles[b])});
+}
+
+// The items of `bvh` whose boxes overlap `box`.
+template <class F>
+void for_each_overlapping_item(const Bvh& bvh, const Aabb& box, F&& f) {
+  const auto& nodes = bvh.nodes();
+  if (nodes.empty()) return;
+  std::int32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Bvh::Node& n = nodes[stack[--top]];
+    if (!n.box.overlaps(box)) continue;
+    if (n.count > 0) {
+      for (std::int32_t i = n.first; i < n.first + n.count; ++i)
+        if (bvh.item_boxes()[i].overlaps(box)) f(bvh.items()[i]);
+      continue;
+    }
+    // Balanced median splits: depth at most log2(2^31 / kLeaf) < 64.
+    stack[top++] = n.right;
+    stack[top++] = static_cast<std::int32_t>(&n - nodes.data()) + 1;
+  }
+}
+
+}  // namespace
+
 IntersectionReport find_self_intersections(const SurfaceMesh& m, int max_report, int threads) {
   IntersectionReport r;
   const std::size_t nt = m.triangles.size();
@@ -349,51 +423,51 @@ IntersectionReport find_self_intersections(const SurfaceMesh& m, int max_report,
   if (nt == 0) return r;
   tbb::task_arena arena = make_arena(threads);
   arena.execute([&] {
-    std::vector<Aabb> boxes(nt);
-    std::vector<char> ok(nt, 0);
-    tbb::parallel_for(std::size_t(0), nt, [&](std::size_t t) {
-      if (tri_state(m, t) != kValid) return;
-      const pred3::Tri c = corners(m, t);
-      if (pred3::projection_axis(c) < 0) return;
-      ok[t] = 1;
-      boxes[t] = {glm::min(c[0], glm::min(c[1], c[2])), glm::max(c[0], glm::max(c[1], c[2]))};
-    });
+    const TriangleBoxes tb = triangle_boxes(m, r);
     std::vector<TriId> items;
     items.reserve(nt);
-    for (std::size_t t = 0; t < nt; ++t) {
-      if (ok[t])
-        items.push_back(static_cast<TriId>(t));
-      else
-        ++r.skipped_degenerate;
-    }
-    const Bvh bvh(boxes, std::move(items));
-
+    for (std::size_t t = 0; t < nt; ++t)
+      if (tb.ok[t]) items.push_back(static_cast<TriId>(t));
+    const Bvh bvh(tb.boxes, std::move(items));
     const std::size_t cap = static_cast<std::size_t>(std::max(max_report, 0));
-    struct Local {
-      const SurfaceMesh* m;
-      std::size_t candidates = 0, hits = 0;
-      SmallestK<std::pair<TriId, TriId>> first;
-      Local(const SurfaceMesh* mesh, std::size_t k) : m(mesh), first(k) {}
-      void operator()(TriId t, TriId u) {
-        ++candidates;
-        PairKind kind;
-        if (pair_intersects(*m, t, u, kind)) {
-          ++hits;
-          first.push({t, u});
-        }
-      }
-    };
-    tbb::enumerable_thread_specific<Local> tls([&m, cap] { return Local(&m, cap); });
-    for_each_overlapping_pair(bvh, [&]() -> Local& { return tls.local(); });
-    SmallestK<std::pair<TriId, TriId>> first(cap);
-    for (Local& L : tls) {
-      r.candidate_pairs += L.candidates;
-      r.intersecting_pairs += L.hits;
-      first.merge(L.first);
-    }
-    for (const auto& [a, b] : first.sorted())
-      r.pairs.push_back(
-          {a, b, face_of(m, a), face_of(m, b), pair_kind(m.triangles[a], m.triangles[b])});
+    tbb::enumerable_thread_specific<PairTests> tls([&m, cap] { return PairTests(&m, cap); });
+    for_each_overlapping_pair(bvh, [&]() -> PairTests& { return tls.local(); });
+    add_pairs(m, tls, cap, r);
+  });
+  return r;
+}
+
+IntersectionReport find_intersections_with(const SurfaceMesh& m, const std::vector<char>& subset,
+                                           int max_report, int threads) {
+  IntersectionReport r;
+  const std::size_t nt = m.triangles.size();
+  r.triangles = nt;
+  if (nt == 0) return r;
+  auto in_subset = [&](std::size_t t) { return t < subset.size() && subset[t]; };
+  tbb::task_arena arena = make_arena(threads);
+  arena.execute([&] {
+    const TriangleBoxes tb = triangle_boxes(m, r);
+    // A tree over the subset only: the rest of the mesh queries it box by box.
+    std::vector<TriId> items;
+    for (std::size_t t = 0; t < nt; ++t)
+      if (tb.ok[t] && in_subset(t)) items.push_back(static_cast<TriId>(t));
+    const Bvh bvh(tb.boxes, std::move(items));
+    const std::size_t cap = static_cast<std::size_t>(std::max(max_report, 0));
+    tbb::enumerable_thread_specific<PairTests> tls([&m, cap] { return PairTests(&m, cap); });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 1024),
+                      [&](const tbb::blocked_range<std::size_t>& rg) {
+                        PairTests& L = tls.local();
+                        for (std::size_t t = rg.begin(); t < rg.end(); ++t) {
+                          if (!tb.ok[t]) continue;
+                          const auto ti = static_cast<TriId>(t);
+                          // Two of the subset: once, from the lower index.
+                          for_each_overlapping_item(bvh, tb.boxes[t], [&](TriId u) {
+                            if (u != ti && !(in_subset(t) && u < ti))
+                              L(std::min(ti, u), std::max(ti, u));
+                          });
+                        }
+                      });
+    add_pairs(m, tls, cap, r);
   });
   return r;
 }

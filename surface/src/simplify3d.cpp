@@ -34,6 +34,7 @@ void Simplifier::init() {
     nsegs[static_cast<std::size_t>(g.b)].push_back(static_cast<int>(s));
     if (g.edge >= 0) eseg[static_cast<std::size_t>(g.edge)].push_back(static_cast<int>(s));
   }
+  writer.assign(nt, -1);
   efaces = geom::edge_faces(m);
   classify_edges();
   classify_faces();
@@ -255,7 +256,7 @@ Simplifier::Plan Simplifier::plan_collapse(NodeId a, NodeId b) const {
   Plan p;
   if (!collapse_allowed(a, b, p.dissolve)) return p;
   p.removed = edge_tris(a, b);
-  if (!link_ok(a, b, p.removed)) return p;
+  if (!link_ok(a, b, p.removed) || !allowed({'c', a, b})) return p;
   double old_worst = 0;
   for (int t : p.removed) old_worst = std::max(old_worst, Q(t));
   const double removed_worst = old_worst;
@@ -304,7 +305,9 @@ void Simplifier::write(const NewTri& nt) {
     M.triangle_face.push_back(nt.face);
     M.triangle_uv.push_back(nt.uv);
     tri_alive.push_back(1);
+    writer.push_back(static_cast<int>(ops.size()) - 1);
   } else {
+    writer[static_cast<std::size_t>(t)] = static_cast<int>(ops.size()) - 1;
     M.triangles[static_cast<std::size_t>(t)] = nt.v;
     M.triangle_face[static_cast<std::size_t>(t)] = nt.face;
     M.triangle_uv[static_cast<std::size_t>(t)] = nt.uv;
@@ -370,6 +373,7 @@ Simplification Simplifier::vertex_merge(NodeId a, NodeId b, const Plan& p) const
 }
 
 void Simplifier::apply_collapse(NodeId a, NodeId b, const Plan& p) {
+  begin({'c', a, b});
   if (dim(a) == 0) log.push_back(vertex_merge(a, b, p));
   if (p.dissolve) dissolve(ent(a));
   for (int t : p.removed) tri_alive[static_cast<std::size_t>(t)] = 0;
@@ -456,7 +460,7 @@ bool Simplifier::try_flip(int t, int k, double limit) {
   NodeId d = -1;
   for (NodeId x : w)
     if (x != b && x != c) d = x;
-  if (d < 0 || d == a || !edge_tris(a, d).empty()) return false;
+  if (d < 0 || d == a || !edge_tris(a, d).empty() || !allowed(edge_op('f', b, c))) return false;
   const Vec3 n0 = unit_normal(P(b), P(c), P(a)), n1 = unit_normal(P(c), P(b), P(d));
   if (glm::dot(n0, n1) < std::cos(in.feature_angle)) return false;
   const double old_worst = std::max(Q(t), Q(t2));
@@ -482,6 +486,7 @@ bool Simplifier::try_flip(int t, int k, double limit) {
   if (!place(x, M.triangle_face[static_cast<std::size_t>(t)], {uv_in(t, a), uv_in(t, b), ud}) ||
       !place(y, M.triangle_face[static_cast<std::size_t>(t)], {ud, uv_in(t, c), uv_in(t, a)}))
     return false;
+  begin(edge_op('f', b, c));
   if (s >= 0) dissolve(M.segments[static_cast<std::size_t>(s)].edge);
   write(x);
   write(y);
@@ -489,7 +494,7 @@ bool Simplifier::try_flip(int t, int k, double limit) {
 }
 void Simplifier::run() {
   init();
-  std::vector<double> area0(m.faces.size(), 0.0);
+  area0.assign(m.faces.size(), 0.0);
   std::vector<int> cand;
   for (std::size_t t = 0; t < M.triangles.size(); ++t) {
     const Tri& v = M.triangles[t];
@@ -516,10 +521,37 @@ void Simplifier::run() {
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
   }
-  if (changed) finish(area0);
 }
 
-void Simplifier::finish(const std::vector<double>& area0) {
+const OpKey& Simplifier::culprit(int t0, int t1) const {
+  const int w =
+      std::max(writer[static_cast<std::size_t>(t0)], writer[static_cast<std::size_t>(t1)]);
+  return ops[static_cast<std::size_t>(w)];
+}
+
+std::vector<std::pair<int, int>> Simplifier::crossings() const {
+  if (!changed) return {};
+  SurfaceMesh alive;
+  alive.points = M.points;
+  std::vector<int> slot;
+  std::vector<char> subset;
+  for (std::size_t t = 0; t < M.triangles.size(); ++t) {
+    if (!tri_alive[t]) continue;
+    slot.push_back(static_cast<int>(t));
+    alive.triangles.push_back(M.triangles[t]);
+    alive.triangle_face.push_back(M.triangle_face[t]);
+    subset.push_back(writer[t] >= 0);
+  }
+  const IntersectionReport r =
+      find_intersections_with(alive, subset, std::numeric_limits<int>::max(), in.threads);
+  std::vector<std::pair<int, int>> out;
+  for (const IntersectingPair& p : r.pairs)
+    out.emplace_back(slot[static_cast<std::size_t>(p.t0)], slot[static_cast<std::size_t>(p.t1)]);
+  return out;
+}
+
+void Simplifier::finish() {
+  if (!changed) return;
   std::vector<char> has_tri(m.faces.size(), 0), has_seg(m.edges.size(), 0),
       logged(m.edges.size(), 0);
   for (std::size_t t = 0; t < M.triangles.size(); ++t)
@@ -626,6 +658,7 @@ void Simplifier::compact() {
 
 }  // namespace simplify_impl
 
+using simplify_impl::OpKey;
 using simplify_impl::Simplifier;
 
 std::vector<char> user_sized_edges(const geom::Model& m, const param::SizeSpec& spec) {
@@ -641,11 +674,62 @@ std::vector<char> user_sized_edges(const geom::Model& m, const param::SizeSpec& 
   return kept;
 }
 
+namespace {
+
+constexpr int kGuardRuns = 8;
+
+// The log entry of a run redone because its triangles crossed others.
+Simplification crossing_entry(const SurfaceMesh& mesh, const std::vector<std::pair<int, int>>& x,
+                              const std::set<OpKey>& refused) {
+  Simplification r;
+  r.what = "operations refused";
+  for (const auto& [a, b] : x)
+    for (int t : {a, b}) r.faces.push_back(mesh.triangle_face[static_cast<std::size_t>(t)]);
+  std::sort(r.faces.begin(), r.faces.end());
+  r.faces.erase(std::unique(r.faces.begin(), r.faces.end()), r.faces.end());
+  r.size = static_cast<double>(x.size());
+  std::map<char, int> kinds;
+  for (const OpKey& k : refused) ++kinds[std::get<0>(k)];
+  const std::map<char, const char*> name{
+      {'c', "collapses"}, {'f', "swaps"}, {'s', "splits"}, {'r', "relocations"}};
+  r.why = std::to_string(x.size()) +
+          " pairs of triangles would intersect (parts closer than the feature size); not done:";
+  for (const auto& [k, n] : kinds) r.why += " " + std::to_string(n) + " " + name.at(k);
+  return r;
+}
+
+}  // namespace
+
+// The guard against crossings: a run whose triangles intersect others (two solids in near
+// contact, a fold of the surface) is done again from the given mesh without the
+// operations that made those triangles. A run repeats the earlier one exactly up to the
+// first operation refused (the stage is deterministic), so every run refuses at least one
+// operation more than the last.
 std::vector<Simplification> simplify_mesh(const SimplifyInput& in, SurfaceMesh& mesh) {
   if (!(in.collapse_size > 0) || mesh.triangles.empty()) return {};
-  Simplifier s(in, mesh);
-  s.run();
-  return std::move(s.log);
+  const SurfaceMesh given = mesh;
+  std::set<OpKey> forbidden;
+  std::vector<Simplification> log;
+  for (int run = 0;; ++run) {
+    Simplifier s(in, mesh, forbidden);
+    s.run();
+    const auto x = s.crossings();
+    if (x.empty()) {
+      s.finish();
+      for (auto& r : s.log) log.push_back(std::move(r));
+      return log;
+    }
+    std::set<OpKey> refused;
+    for (const auto& [a, b] : x) refused.insert(s.culprit(a, b));
+    log.push_back(crossing_entry(mesh, x, refused));
+    forbidden.insert(refused.begin(), refused.end());
+    mesh = given;
+    if (run + 1 == kGuardRuns) {
+      log.back().why +=
+          "; still crossing after " + std::to_string(kGuardRuns) + " runs: the stage is undone";
+      return log;
+    }
+  }
 }
 
 void simplify(ModelRun& run) {
@@ -654,8 +738,12 @@ void simplify(ModelRun& run) {
   // default) has unit edges down to hmin / sqrt2, which are the user's elements, not
   // artefacts, and a sliver face half as wide as its elements are long is fairly shaped.
   const double half = 0.5 * feature_size(run.opt, run.m.bbox);
-  const SimplifyInput in{run.m, half, run.spec.chordal_tol, run.opt.feature_angle,
-                         user_sized_edges(run.m, run.spec)};
+  const SimplifyInput in{run.m,
+                         half,
+                         run.spec.chordal_tol,
+                         run.opt.feature_angle,
+                         user_sized_edges(run.m, run.spec),
+                         run.opt.threads};
   auto log = simplify_mesh(in, run.res.mesh);
   for (auto& r : log) run.res.simplified.push_back(std::move(r));
 }

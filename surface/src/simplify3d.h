@@ -33,6 +33,7 @@ struct SimplifyInput {
   /// Per model edge (empty: none): the user gave it, or a face it bounds, a size. Such an
   /// edge is sharp whatever its dihedral angle and is never merged with another entity.
   std::vector<char> kept_edges;
+  int threads = 0;  ///< for the crossing checks (0: all cores); the result does not depend on it
 };
 
 /// kept_edges for the sizes `spec` gives (its edge_size and face_size entries).
@@ -45,7 +46,9 @@ inline constexpr double kPoorShape = 3.0;
 
 /// Simplifies `mesh` in place (deterministically: candidates in sorted order) and returns
 /// what it absorbed, in the order it was done. Leaves the mesh untouched when there is
-/// nothing to do.
+/// nothing to do. Never makes two triangles intersect that did not: where its triangles
+/// cross others (parts in near contact), the nodes of the crossing triangles are frozen
+/// and the stage runs again from the given mesh (the log says where).
 std::vector<Simplification> simplify_mesh(const SimplifyInput& in, SurfaceMesh& mesh);
 
 }  // namespace uvmesh::surface::detail

@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -51,6 +52,14 @@ inline Vec3 unit_normal(const Vec3& p, const Vec3& q, const Vec3& r) {
   return l > 0 ? n / l : Vec3(0.0);
 }
 
+// An operation, as the guard against crossings names it: its kind ('c' collapse of the
+// first node onto the second, 'f' swap of the edge, 's' split of the edge, 'r'
+// relocation of the first node) and its nodes.
+using OpKey = std::tuple<char, NodeId, NodeId>;
+inline OpKey edge_op(char kind, NodeId a, NodeId b) {
+  return {kind, std::min(a, b), std::max(a, b)};
+}
+
 // A triangle about to be written: its corners, face and (u,v) on that face.
 struct NewTri {
   int slot = -1;  ///< triangle index it replaces, -1: appended
@@ -77,8 +86,16 @@ struct Simplifier {
   std::vector<int> touched;
   double start_worst = 0;  ///< the worst Q of the mesh the stage was given
   bool changed = false;
+  std::vector<double> area0;  ///< per face: its triangles' area before the stage
+  /// The guard against crossings (simplify_mesh): operations an earlier run found to
+  /// make triangles intersect are not done; each operation done is listed, and each
+  /// triangle knows the last one that changed it (written, or a corner moved; -1: none).
+  const std::set<OpKey>& forbidden;
+  std::vector<OpKey> ops;
+  std::vector<int> writer;
 
-  Simplifier(const SimplifyInput& i, SurfaceMesh& mesh) : in(i), m(i.model), M(mesh) {}
+  Simplifier(const SimplifyInput& i, SurfaceMesh& mesh, const std::set<OpKey>& no)
+      : in(i), m(i.model), M(mesh), forbidden(no) {}
 
   // ---- accessors
   const Vec3& P(NodeId n) const { return M.points[static_cast<std::size_t>(n)]; }
@@ -97,6 +114,9 @@ struct Simplifier {
     for (int t : vtris[static_cast<std::size_t>(n)])
       if (tri_alive[static_cast<std::size_t>(t)] && has(T(t), n)) f(t);
   }
+  bool allowed(const OpKey& k) const { return !forbidden.count(k); }
+  /// The operation k starts: what it writes from now on is its doing.
+  void begin(const OpKey& k) { ops.push_back(k); }
   static bool has(const Tri& v, NodeId n) { return v[0] == n || v[1] == n || v[2] == n; }
   /// The corner (0, 1, 2) of triangle t at node n (a corner of it).
   int corner(int t, NodeId n) const { return T(t)[0] == n ? 0 : (T(t)[1] == n ? 1 : 2); }
@@ -192,7 +212,11 @@ struct Simplifier {
   double node_param(NodeId n, geom::Id e, double hint) const;
   NodeId add_edge_node(geom::Id e, double t);
   void run();
-  void finish(const std::vector<double>& area0);
+  /// Pairs of alive triangles (t0 < t1, at least one changed) that intersect.
+  std::vector<std::pair<int, int>> crossings() const;
+  /// Of a crossing pair, the operation that made it: the later of the two triangles' last.
+  const OpKey& culprit(int t0, int t1) const;
+  void finish();
   void compact();
 };
 

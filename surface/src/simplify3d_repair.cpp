@@ -70,7 +70,7 @@ bool Simplifier::try_split(int t, int k, double max_height) {
   const geom::Id e = M.segments[static_cast<std::size_t>(s)].edge;
   const geom::Edge& E = m.edges[static_cast<std::size_t>(e)];
   const auto on = edge_tris(b, c);
-  if (!E.curve || on.size() > 2) return false;
+  if (!E.curve || on.size() > 2 || !allowed(edge_op('s', b, c))) return false;
   double t0 = node_param(b, e, dim(c) == 1 ? M.point_t[static_cast<std::size_t>(c)] : E.range.lo);
   double t1 = node_param(c, e, t0);
   const double tm = nearest_on(E, P(a), std::min(t0, t1), std::max(t0, t1));
@@ -104,6 +104,7 @@ bool Simplifier::try_split(int t, int k, double max_height) {
     nts.push_back(h1);
   }
   if (!(new_worst < old_worst)) return false;
+  begin(edge_op('s', b, c));
   const NodeId n = add_edge_node(e, tm);
   for (NewTri& nt : nts) {
     for (NodeId& w : nt.v)
@@ -179,7 +180,7 @@ bool Simplifier::try_relocate(NodeId n) {
     if (!uv0) uv0 = uv;
     own.back() = glm::length(uv - *uv0) == 0;
   });
-  if (ring.size() < 3 || !uv0) return false;
+  if (ring.size() < 3 || !uv0 || !allowed({'r', n, -1})) return false;
   double old_worst = 0, area = 0, h = 0;
   Vec3 target(0.0);
   for (int t : ring) {
@@ -233,8 +234,10 @@ bool Simplifier::try_relocate(NodeId n) {
       if (own[i])
         M.triangle_uv[static_cast<std::size_t>(ring[i])]
                      [static_cast<std::size_t>(corner(ring[i], n))] = pr.uv;
+    begin({'r', n, -1});
     for (const NewTri& nt : others) write(nt);
-    for (int t : ring) touched.push_back(t);
+    for (int t : ring)
+      touched.push_back(t), writer[static_cast<std::size_t>(t)] = static_cast<int>(ops.size()) - 1;
     changed = true;
     return true;
   }

@@ -520,6 +520,25 @@ TEST_CASE("check3d: self-intersection: random soups against brute force", "[chec
     CHECK(r1.candidate_pairs == r.candidate_pairs);
     REQUIRE(r1.pairs.size() == std::min<std::size_t>(10, brute));
     for (std::size_t k = 0; k < r1.pairs.size(); ++k) CHECK(r1.pairs[k].t0 == r.pairs[k].t0);
+    // Restricted to pairs with a triangle of a random subset (a third of the soup, the
+    // vector shorter than the mesh): exactly the matching pairs of the whole answer.
+    std::vector<char> subset(m.triangles.size() - 7, 0);
+    for (auto& s : subset) s = P(rng) % 3 == 0;
+    auto in = [&](surface::TriId t) {
+      return static_cast<std::size_t>(t) < subset.size() && subset[t];
+    };
+    std::vector<std::pair<surface::TriId, surface::TriId>> want, got;
+    for (const auto& p : r.pairs)
+      if (in(p.t0) || in(p.t1)) want.push_back({p.t0, p.t1});
+    for (int threads : {1, 2}) {
+      const auto rs = surface::find_intersections_with(m, subset, 1000000, threads);
+      got.clear();
+      for (const auto& p : rs.pairs) got.push_back({p.t0, p.t1});
+      CHECK(got == want);
+      CHECK(rs.intersecting_pairs == want.size());
+    }
+    CHECK(!want.empty());
+    CHECK(want.size() < r.pairs.size());
     INFO("trial " << trial << ": " << brute << " intersecting pairs of " << r.candidate_pairs
                   << " candidates");
     CHECK(brute > 0);

@@ -643,6 +643,21 @@ TEST_CASE(
 }
 
 TEST_CASE(
+    "surface mesher: the simplify stage makes no triangles of two solids in near contact cross "
+    "(occt_motor)",
+    "[surface][feature]") {
+  // At hmax D/40 two collapses on faces 1 and 8 moved triangles through face 114 of the
+  // next part (8 intersecting pairs, none at keep-topology), and TetGen refused the mesh.
+  // Such operations are now refused and the stage run again without them.
+  const geom::Model m = load_conforming(data("cad/occt_motor.brep"));
+  const surface::MeshResult r = surface::mesh_model(m, d40_angle30(m));
+  CHECK(r.failed.empty());
+  CHECK(surface::find_self_intersections(r.mesh, 5, 1).intersecting_pairs == 0);
+  CHECK(surface::measure_quality(r.mesh, 5).Q_over_10 == 0);
+  check_solids_closed(r.mesh, m, m.solids.size());
+}
+
+TEST_CASE(
     "surface mesher: faces whose pcurves cross are triangulated from their boundary when that is "
     "valid",
     "[surface]") {

@@ -134,6 +134,13 @@ struct IntersectionReport {
 IntersectionReport find_self_intersections(const SurfaceMesh& m, int max_report = 20,
                                            int threads = 0);
 
+/// The same test for the pairs with at least one triangle t where subset[t] is set (a
+/// subset shorter than the mesh counts as unset beyond its end): a tree over the subset,
+/// queried by every triangle's box, so that a few changed triangles are checked against
+/// a large mesh in O(n log k). Pairs, counts and order as above, restricted to those.
+IntersectionReport find_intersections_with(const SurfaceMesh& m, const std::vector<char>& subset,
+                                           int max_report = 20, int threads = 0);
+
 /// The pair test used above, for two triangles of m (tests compare it with brute force).
 /// Degenerate triangles (repeated index, zero area) never intersect by this definition.
 bool triangles_intersect(const SurfaceMesh& m, TriId t0, TriId t1);
