@@ -13,6 +13,10 @@ PKGS=(
   libosd-dev libglm-dev libtbb-dev libdraco-dev draco
   # small well-kept libraries
   catch2 nlohmann-json3-dev libcli11-dev libfmt-dev
+  # Python module (pybind11 over Debian's /usr/bin/python3, numpy arrays, pytest tests)
+  python3-dev pybind11-dev python3-numpy python3-pytest
+  # volume meshing: Netgen's nglib (LGPL) fills the closed solids from our surface mesh
+  libnglib-dev
   # comparison benchmark and cross-checks (reference tools, not product deps)
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev gmsh python3-gmsh tetgen python3-meshio freefem++
   # fuzzing and sanitizers; clang-format checks the sources (tests/code)
