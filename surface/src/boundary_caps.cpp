@@ -2,8 +2,10 @@
 // across a face, proximity). See BoundaryCaps in internal.h for what and why.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "internal.h"
+#include "uvmesh/surface/check3d.h"
 
 namespace uvmesh::surface::detail {
 
@@ -139,7 +141,8 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
         const double tol_floor = kGapToleranceFactor * (self.tol + P.tol);
         const double floor = std::max(sheet ? sheet_floor_ : prox_floor_, tol_floor);
         const double from = sheet || !sized_at_floor_ ? floor : tol_floor;
-        Neighbour nb{oe, floor, std::min(from, floor), {false, false}};
+        Neighbour nb{
+            oe, floor, std::min(from, floor), std::max(sheet_floor_, tol_floor), {false, false}};
         if (!self.p.empty())
           for (int k = 0; k < 2; ++k) {
             const geom::Vec3& q = k == 0 ? P.p.front() : P.p.back();
@@ -151,9 +154,42 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
   }
 }
 
+namespace {
+
+// sin(kAcuteCornerDeg): a gap d at distance r from the vertex two edges share belongs to
+// the tip of an acute corner when d <= r sin(theta) with theta below this angle.
+const double kAcuteWedgeSin = std::sin(kAcuteCornerDeg * std::numbers::pi / 180.0);
+// A wedge narrower than this many degrees is a lens or a sliver between two edges that
+// run along each other (a CAD artefact the feature size absorbs), not a corner of the
+// part's shape: resolving it would take ln(L / floor) / theta nodes along each edge.
+const double kMinWedgeSin = std::sin(2.0 * std::numbers::pi / 180.0);
+
+}  // namespace
+
+// The tip of an acute corner (two edges of a face meeting at a vertex at an angle below
+// kAcuteCornerDeg) is narrower than the feature size L over a length L / sin(theta).
+// Sized at L there, its triangles are caps of Q ~ L / (r sin theta), one row after the
+// other, and only the one touching the vertex is a corner's (the report's exemption).
+// The corner is the part's shape, not a CAD artefact: sizes follow the gap d = r sin
+// theta down to the wedge floor, which grades geometrically towards the vertex (ratio
+// 1 + sin theta per element) and leaves one poor triangle, at the vertex. A gap that
+// does not open linearly from the shared vertex (a strip, a lens, a sliver face: d much
+// less than r sin of the angle between the edges there) keeps the feature-size rules.
+bool BoundaryCaps::in_acute_wedge(const geom::Vec3& x, const EdgePoly& P, const Neighbour& nb,
+                                  double d) const {
+  for (int k = 0; k < 2; ++k) {
+    if (!nb.shares_end[k]) continue;
+    const geom::Vec3& vtx = k == 0 ? P.p.front() : P.p.back();
+    const double r = glm::length(x - vtx);
+    if (!(r > 0) || d > kAcuteWedgeSin * r || d < kMinWedgeSin * r) continue;
+    return true;
+  }
+  return false;
+}
+
 double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent,
                          double h) const {
-  double best = h, prox = h, at_vertex = h;
+  double best = h, prox = h, at_vertex = h, wedge = h;
   const double g = beta_ - 1.0;
   // The other edges of the faces around e. The edge itself is not among them: its own 1D
   // gradation already holds along it, and its nodes near x lie along the tangent
@@ -228,13 +264,15 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
         if (d >= prox || d < nb.resolve_from) continue;
         if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
         prox = std::min(prox, std::max(d, gap_floor));
+        if (d < gap_floor && in_acute_wedge(x, P, nb, d))
+          wedge = std::min(wedge, std::max(d, nb.wedge_floor));
       }
     }
   }
   // The gradation cap stops at hmin, the proximity cap at the feature size (hmin / 100
-  // between two free edges; never above h).
+  // between two free edges; never above h), except in the tip of an acute wedge.
   return std::min({h, std::max(best, floor_), std::max(at_vertex, prox_floor_),
-                   std::max(prox, std::min(prox_floor_, sheet_floor_))});
+                   std::max(prox, std::min(prox_floor_, sheet_floor_)), wedge});
 }
 
 }  // namespace uvmesh::surface::detail

@@ -114,9 +114,15 @@ class BoundaryCaps {
     /// A gap in [resolve_from, gap_floor) is sized at gap_floor (with a feature size:
     /// every gap above the CAD tolerances gets elements of at least L; boundary_caps.cpp).
     double resolve_from;
+    /// A gap closing towards a vertex the two edges share at an acute corner (a wedge)
+    /// is resolved down to this (the keep_topology floor, hmin / 100, or the two CAD
+    /// tolerances): boundary_caps.cpp, cap().
+    double wedge_floor;
     bool shares_end[2];  ///< its first / last node is an end of this edge
   };
   std::vector<std::vector<Neighbour>> nbrs_;  ///< per edge, in the order cap() visits them
+  /// x (at gap d from nb's edge P) lies in the tip of an acute corner the two edges share.
+  bool in_acute_wedge(const geom::Vec3& x, const EdgePoly& P, const Neighbour& nb, double d) const;
   double beta_ = 1.3, floor_ = 0.0, prox_floor_ = 0.0, eps_ = 0.0;
   /// The proximity floor between two free edges (each used once): hmin / 100.
   double sheet_floor_ = 0.0;
