@@ -1,6 +1,7 @@
 // Size caps along model edges from the other edges of the faces around them (gradation
 // across a face, proximity). See BoundaryCaps in internal.h for what and why.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -56,8 +57,73 @@ double proximity_floor(const param::SizeSpec& spec, double diagonal, double feat
 
 namespace uvmesh::surface::detail {
 
+namespace {
+
+// Unit chord from the first (at_front) or last node of a curve to its point at a distance
+// of about `scale` (halving the parameter step from the whole range); zero when unknown.
+geom::Vec3 corner_chord(const geom::Curve& c, const std::vector<double>& t, bool at_front,
+                        double scale) {
+  const double t0 = at_front ? t.front() : t.back(), t1 = at_front ? t.back() : t.front();
+  const geom::Vec3 v = c.point(t0);
+  geom::Vec3 d(0.0);
+  for (int j = 0; j < 40; ++j) {
+    d = c.point(t0 + (t1 - t0) * std::ldexp(1.0, -j)) - v;
+    if (glm::length(d) <= scale) break;
+  }
+  const double n = glm::length(d);
+  return n > 0 ? d / n : geom::Vec3(0.0);
+}
+
+// sin of the angle between two unit directions leaving one vertex; 1 when it is 90
+// degrees or more (not acute) or either is unknown (a zero tangent).
+double corner_sin(const geom::Vec3& a, const geom::Vec3& b) {
+  if (glm::dot(a, b) <= 0 || glm::length(a) < 0.5 || glm::length(b) < 0.5) return 1.0;
+  return std::min(1.0, glm::length(glm::cross(a, b)));
+}
+
+// Per edge: whether it is sharp, its faces meeting at a dihedral angle of at least
+// `feature_angle` (radians) somewhere along it (at the nodes between its ends, where the
+// simplify stage measures it too: simplify3d.cpp), or it is free or non-manifold. A
+// smooth edge or a seam is no side of a corner: the simplify stage dissolves it, and the
+// faces across it are one surface there.
+std::vector<char> sharp_edges(const geom::Model& m, const std::vector<std::vector<double>>& t,
+                              double feature_angle) {
+  std::vector<std::vector<std::pair<const geom::Face*, const geom::EdgeUse*>>> uses(m.edges.size());
+  for (const geom::Face& f : m.faces)
+    for (const geom::Loop& l : f.loops)
+      for (const geom::EdgeUse& u : l.uses)
+        if (u.edge >= 0 && !u.internal) uses[static_cast<std::size_t>(u.edge)].push_back({&f, &u});
+  std::vector<char> sharp(m.edges.size(), 1);
+  const double cos_limit = std::cos(feature_angle);
+  for (std::size_t e = 0; e < m.edges.size(); ++e) {
+    const auto& us = uses[e];
+    if (us.size() != 2 || t[e].size() < 2) continue;
+    sharp[e] = 0;
+    if (us[0].first == us[1].first) continue;  // a seam
+    std::vector<double> at(t[e].begin() + 1, t[e].end() - 1);
+    if (at.empty()) at.push_back(0.5 * (t[e].front() + t[e].back()));
+    for (double s : at) {
+      geom::Vec3 n[2];
+      for (int i = 0; i < 2; ++i) {
+        const auto& [f, u] = us[static_cast<std::size_t>(i)];
+        if (!f->surface || !u->pcurve) break;
+        const geom::Vec2 uv = u->pcurve->point(s);
+        n[i] = f->surface->eval_first(uv.x, uv.y).normal() * (f->reversed ? -1.0 : 1.0);
+      }
+      const double l0 = glm::length(n[0]), l1 = glm::length(n[1]);
+      if (l0 > 0.5 && l1 > 0.5 && glm::dot(n[0], n[1]) / (l0 * l1) <= cos_limit) {
+        sharp[e] = 1;
+        break;
+      }
+    }
+  }
+  return sharp;
+}
+
+}  // namespace
+
 BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t,
-                           const param::SizeSpec& spec, double feature)
+                           const param::SizeSpec& spec, double feature, double feature_angle)
     : poly_(m.edges.size()) {
   beta_ = std::max(1.0, spec.gradation);
   const double D = std::max(m.bbox.diagonal(), 1e-300);
@@ -76,12 +142,20 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
     EdgePoly& P = poly_[e];
     P.tol = gap_tolerance(m, static_cast<geom::Id>(e));
     for (double s : t[e]) P.p.push_back(ed.curve->point(s));
+    // The directions in which the corner at each end opens, at the scale the wedge rule
+    // works at (prox_floor_, the feature size): the chord from the end to the curve's
+    // point about that far along it. Not the end segment of this discretization (an
+    // arc's first segment may turn tens of degrees away from it), nor the tangent (a
+    // curve turning within a micrometre of its end: the corner the mesh sees is the one
+    // at the element's scale).
+    for (int k = 0; k < 2; ++k) P.end_dir[k] = corner_chord(*ed.curve, t[e], k == 0, prox_floor_);
     const std::size_t n = P.p.size();
     P.h.assign(n, std::numeric_limits<double>::infinity());
     P.len.assign(n - 1, 0.0);
     for (std::size_t i = 0; i + 1 < n; ++i) {
       const double l = glm::length(P.p[i + 1] - P.p[i]);
       P.len[i] = l;
+      P.length += l;
       P.h[i] = std::min(P.h[i], l);
       P.h[i + 1] = std::min(P.h[i + 1], l);
     }
@@ -123,6 +197,7 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
   // on the query point: the gap floor of the pair, and which ends of the other edge are
   // ends of this one (two square roots per end and query before).
   nbrs_.resize(m.edges.size());
+  const std::vector<char> sharp = sharp_edges(m, t, feature_angle);
   for (std::size_t e = 0; e < m.edges.size(); ++e) {
     const EdgePoly& self = poly_[e];
     for (geom::Id f : edge_faces[e])
@@ -141,13 +216,25 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
         const double tol_floor = kGapToleranceFactor * (self.tol + P.tol);
         const double floor = std::max(sheet ? sheet_floor_ : prox_floor_, tol_floor);
         const double from = sheet || !sized_at_floor_ ? floor : tol_floor;
-        Neighbour nb{
-            oe, floor, std::min(from, floor), std::max(sheet_floor_, tol_floor), {false, false}};
+        Neighbour nb{oe,
+                     floor,
+                     std::min(from, floor),
+                     std::max(sheet_floor_, tol_floor),
+                     {false, false},
+                     {1.0, 1.0}};
         if (!self.p.empty())
           for (int k = 0; k < 2; ++k) {
-            const geom::Vec3& q = k == 0 ? P.p.front() : P.p.back();
-            nb.shares_end[k] =
-                glm::length(q - self.p.front()) <= eps_ || glm::length(q - self.p.back()) <= eps_;
+            const bool first = k == 0;
+            const geom::Vec3& q = first ? P.p.front() : P.p.back();
+            const bool at_front = glm::length(q - self.p.front()) <= eps_;
+            nb.shares_end[k] = at_front || glm::length(q - self.p.back()) <= eps_;
+            const bool corner = sharp[e] && sharp[static_cast<std::size_t>(oe)];
+            // An edge shorter than the feature size is absorbed (collapsed to a vertex or
+            // merged into a composite edge): no side of a corner either.
+            const bool sides = self.length >= prox_floor_ && P.length >= prox_floor_;
+            if (nb.shares_end[k] && corner && sides)
+              nb.corner_sin[k] =
+                  corner_sin(self.end_dir[at_front ? 0 : 1], P.end_dir[first ? 0 : 1]);
           }
         nbrs_[e].push_back(nb);
       }
@@ -166,30 +253,33 @@ const double kMinWedgeSin = std::sin(2.0 * std::numbers::pi / 180.0);
 
 }  // namespace
 
-// The tip of an acute corner (two edges of a face meeting at a vertex at an angle below
-// kAcuteCornerDeg) is narrower than the feature size L over a length L / sin(theta).
-// Sized at L there, its triangles are caps of Q ~ L / (r sin theta), one row after the
-// other, and only the one touching the vertex is a corner's (the report's exemption).
-// The corner is the part's shape, not a CAD artefact: sizes follow the gap d = r sin
-// theta down to the wedge floor, which grades geometrically towards the vertex (ratio
-// 1 + sin theta per element) and leaves one poor triangle, at the vertex. A gap that
-// does not open linearly from the shared vertex (a strip, a lens, a sliver face: d much
-// less than r sin of the angle between the edges there) keeps the feature-size rules.
+// The tip of an acute corner (two sharp edges of a face leaving a vertex at an angle below
+// kAcuteCornerDeg between their tangents) is narrower than the feature size L over a
+// length L / sin(theta). Sized at L there, its triangles are caps of Q ~ L / (r sin
+// theta), one row after the other, and only the one touching the vertex is a corner's
+// (the report's exemption). The corner is the part's shape, not a CAD artefact: sizes
+// follow the gap d = r sin theta down to the wedge floor, which grades geometrically
+// towards the vertex (ratio 1 + sin theta per element), and one triangle spans the rest,
+// at the vertex. A gap that does not open linearly from the shared vertex at the
+// corner's angle (an edge curving back towards the other far from the vertex), a corner
+// below kMinWedgeSin (a lens, a sliver face) and one with a smooth side keep the
+// feature-size rules.
 bool BoundaryCaps::in_acute_wedge(const geom::Vec3& x, const EdgePoly& P, const Neighbour& nb,
                                   double d) const {
   for (int k = 0; k < 2; ++k) {
-    if (!nb.shares_end[k]) continue;
-    const geom::Vec3& vtx = k == 0 ? P.p.front() : P.p.back();
-    const double r = glm::length(x - vtx);
-    if (!(r > 0) || d > kAcuteWedgeSin * r || d < kMinWedgeSin * r) continue;
-    return true;
+    const double s = nb.corner_sin[k];
+    if (!nb.shares_end[k] || s > kAcuteWedgeSin || s < kMinWedgeSin) continue;
+    // Within the straight part of the wedge the gap is r sin(theta); a gap much smaller or
+    // larger belongs to another part of the edges (one curving back towards the other).
+    const double r = glm::length(x - (k == 0 ? P.p.front() : P.p.back()));
+    if (d >= 0.5 * r * s && d <= 1.5 * r * s) return true;
   }
   return false;
 }
 
 double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent,
                          double h) const {
-  double best = h, prox = h, at_vertex = h, wedge = h;
+  double best = h, prox = h, at_vertex = h, wedge = h, at_wedge = h;
   const double g = beta_ - 1.0;
   // The other edges of the faces around e. The edge itself is not among them: its own 1D
   // gradation already holds along it, and its nodes near x lie along the tangent
@@ -205,11 +295,21 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
     // tangential contacts and acute corners, where they only multiply the slivers across
     // sub-floor gaps (measured: four times as many triangles of Q > 3 on parts with such
     // contacts).
+    // An edge at least L long refined below L at its end, or an edge shorter than L cut
+    // into several segments (sizes above L would leave it one), was refined there on
+    // purpose (the tip of an acute wedge, a sheet's width, a user size), not by being an
+    // artefact: the other edges at that vertex grade down to it too, else the faces on
+    // its other side meet a jump of L / h at the vertex (caps at corners of 90 degrees).
+    // Not the other edge of the wedge itself: inside the tip, where the gap is below the
+    // wedge floor, its sizes would put several nodes along a gap narrower than them.
     if (g > 0)
       for (int k = 0; k < 2; ++k)
         if (nb.shares_end[k]) {
           const std::size_t i = k == 0 ? 0 : P.p.size() - 1;
-          at_vertex = std::min(at_vertex, P.h[i] + g * glm::length(x - P.p[i]));
+          const double hv = P.h[i] + g * glm::length(x - P.p[i]);
+          at_vertex = std::min(at_vertex, hv);
+          if ((P.length >= prox_floor_ || P.p.size() > 2) && nb.corner_sin[k] >= kAcuteWedgeSin)
+            at_wedge = std::min(at_wedge, std::max(hv, nb.wedge_floor));
         }
     // A node p can lower the size at x only if h(p) + g |x - p| < best; a segment only
     // if it is closer than best.
@@ -264,15 +364,17 @@ double BoundaryCaps::cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tang
         if (d >= prox || d < nb.resolve_from) continue;
         if (std::abs(glm::dot(v, tangent)) > 0.5 * d) continue;
         prox = std::min(prox, std::max(d, gap_floor));
-        if (d < gap_floor && in_acute_wedge(x, P, nb, d))
-          wedge = std::min(wedge, std::max(d, nb.wedge_floor));
+        // Inside the very tip, narrower than the wedge floor, no size: nodes there at the
+        // floor would be needles; one triangle spans it, at the vertex.
+        if (d < gap_floor && d >= nb.wedge_floor && in_acute_wedge(x, P, nb, d))
+          wedge = std::min(wedge, d);
       }
     }
   }
   // The gradation cap stops at hmin, the proximity cap at the feature size (hmin / 100
   // between two free edges; never above h), except in the tip of an acute wedge.
   return std::min({h, std::max(best, floor_), std::max(at_vertex, prox_floor_),
-                   std::max(prox, std::min(prox_floor_, sheet_floor_)), wedge});
+                   std::max(prox, std::min(prox_floor_, sheet_floor_)), wedge, at_wedge});
 }
 
 }  // namespace uvmesh::surface::detail

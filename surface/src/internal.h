@@ -76,7 +76,8 @@ struct EdgeNodes {
 class BoundaryCaps {
  public:
   BoundaryCaps(const geom::Model& m, const std::vector<std::vector<double>>& t,
-               const param::SizeSpec& spec, double feature);
+               const param::SizeSpec& spec, double feature,
+               double feature_angle = MeshOptions{}.feature_angle);
   /// Bound of the size at x on edge e (tangent: unit tangent of e at x), at most h.
   double cap(geom::Id e, const geom::Vec3& x, const geom::Vec3& tangent, double h) const;
   /// True when cap(e, ...) reads edge o: o is another edge of a face around e. What it
@@ -93,6 +94,10 @@ class BoundaryCaps {
     std::vector<geom::Vec3> p;  ///< node points
     std::vector<double> h;      ///< size at each node: the shorter adjacent segment
     std::vector<double> len;    ///< length of each segment (p[i], p[i+1])
+    double length = 0.0;        ///< of the polyline
+    /// Unit directions in which the curve leaves its first and last node, at the scale of
+    /// the feature size (boundary_caps.cpp, corner_chord(); zero where unknown).
+    geom::Vec3 end_dir[2] = {geom::Vec3(0.0), geom::Vec3(0.0)};
     geom::Vec3 lo{0.0}, hi{0.0};
     double hmin = 0.0;
     double tol = 0.0;  ///< the CAD edge's tolerance (largest of the edge's and its vertices')
@@ -119,6 +124,10 @@ class BoundaryCaps {
     /// tolerances): boundary_caps.cpp, cap().
     double wedge_floor;
     bool shares_end[2];  ///< its first / last node is an end of this edge
+    /// At a shared end: sin of the angle between the two edges' tangents there (the
+    /// corner's angle in the tangent plane), 1 when it is not acute or when either edge is
+    /// smooth there (no corner of the part's shape: sharp_edges() in boundary_caps.cpp).
+    double corner_sin[2];
   };
   std::vector<std::vector<Neighbour>> nbrs_;  ///< per edge, in the order cap() visits them
   /// x (at gap d from nb's edge P) lies in the tip of an acute corner the two edges share.

@@ -41,7 +41,7 @@ void boundary_size_rounds(ModelRun& run, const EdgeDiscretizer& disc) {
   for (int round = 0; round < run.opt.boundary_size_rounds; ++round) {
     std::vector<std::vector<double>> ts(ne);
     for (std::size_t e = 0; e < ne; ++e) ts[e] = run.edges[e].t;
-    const BoundaryCaps caps(run.m, ts, run.spec, run.feature);
+    const BoundaryCaps caps(run.m, ts, run.spec, run.feature, run.opt.feature_angle);
     std::atomic<int> changed{0};
     std::vector<char> now(ne, 0);
     parallel_indices(run.arena, ne, [&](std::size_t e) {
