@@ -74,6 +74,16 @@ geom::Vec3 corner_chord(const geom::Curve& c, const std::vector<double>& t, bool
   return n > 0 ? d / n : geom::Vec3(0.0);
 }
 
+// How much farther than L the corner's angle is measured a second time: a corner whose
+// sides curve towards each other (two curves tangent at the vertex, a cusp: the gap grows
+// as r^2) opens more than twice as wide there, and is no straight wedge.
+constexpr double kWedgeReach = 4.0;
+// The tip of a wedge is graded down to this share of L; inside that, one triangle spans
+// it at the vertex. Each factor of 10 costs ln(10) / sin(theta) more nodes along each
+// side (100 at 1.3 degrees) and grades the face around: a tenth holds the caps off the
+// rows beside the tip triangle at a few dozen nodes.
+constexpr double kWedgeFloorShare = 0.1;
+
 // sin of the angle between two unit directions leaving one vertex; 1 when it is 90
 // degrees or more (not acute) or either is unknown (a zero tangent).
 double corner_sin(const geom::Vec3& a, const geom::Vec3& b) {
@@ -148,7 +158,10 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
     // arc's first segment may turn tens of degrees away from it), nor the tangent (a
     // curve turning within a micrometre of its end: the corner the mesh sees is the one
     // at the element's scale).
-    for (int k = 0; k < 2; ++k) P.end_dir[k] = corner_chord(*ed.curve, t[e], k == 0, prox_floor_);
+    for (int k = 0; k < 2; ++k) {
+      P.end_dir[k] = corner_chord(*ed.curve, t[e], k == 0, prox_floor_);
+      P.end_dir_far[k] = corner_chord(*ed.curve, t[e], k == 0, kWedgeReach * prox_floor_);
+    }
     const std::size_t n = P.p.size();
     P.h.assign(n, std::numeric_limits<double>::infinity());
     P.len.assign(n - 1, 0.0);
@@ -219,7 +232,7 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
         Neighbour nb{oe,
                      floor,
                      std::min(from, floor),
-                     std::max(sheet_floor_, tol_floor),
+                     std::max(kWedgeFloorShare * prox_floor_, tol_floor),
                      {false, false},
                      {1.0, 1.0}};
         if (!self.p.empty())
@@ -233,8 +246,7 @@ BoundaryCaps::BoundaryCaps(const geom::Model& m, const std::vector<std::vector<d
             // merged into a composite edge): no side of a corner either.
             const bool sides = self.length >= prox_floor_ && P.length >= prox_floor_;
             if (nb.shares_end[k] && corner && sides)
-              nb.corner_sin[k] =
-                  corner_sin(self.end_dir[at_front ? 0 : 1], P.end_dir[first ? 0 : 1]);
+              nb.corner_sin[k] = wedge_sin(self, at_front ? 0 : 1, P, first ? 0 : 1);
           }
         nbrs_[e].push_back(nb);
       }
@@ -264,6 +276,12 @@ const double kMinWedgeSin = std::sin(2.0 * std::numbers::pi / 180.0);
 // corner's angle (an edge curving back towards the other far from the vertex), a corner
 // below kMinWedgeSin (a lens, a sliver face) and one with a smooth side keep the
 // feature-size rules.
+double BoundaryCaps::wedge_sin(const EdgePoly& a, int ka, const EdgePoly& b, int kb) {
+  const double near = corner_sin(a.end_dir[ka], b.end_dir[kb]);
+  const double far = corner_sin(a.end_dir_far[ka], b.end_dir_far[kb]);
+  return far <= 2.0 * near ? near : 1.0;
+}
+
 bool BoundaryCaps::in_acute_wedge(const geom::Vec3& x, const EdgePoly& P, const Neighbour& nb,
                                   double d) const {
   for (int k = 0; k < 2; ++k) {

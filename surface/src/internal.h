@@ -98,6 +98,7 @@ class BoundaryCaps {
     /// Unit directions in which the curve leaves its first and last node, at the scale of
     /// the feature size (boundary_caps.cpp, corner_chord(); zero where unknown).
     geom::Vec3 end_dir[2] = {geom::Vec3(0.0), geom::Vec3(0.0)};
+    geom::Vec3 end_dir_far[2] = {geom::Vec3(0.0), geom::Vec3(0.0)};  ///< the same, farther
     geom::Vec3 lo{0.0}, hi{0.0};
     double hmin = 0.0;
     double tol = 0.0;  ///< the CAD edge's tolerance (largest of the edge's and its vertices')
@@ -120,8 +121,8 @@ class BoundaryCaps {
     /// every gap above the CAD tolerances gets elements of at least L; boundary_caps.cpp).
     double resolve_from;
     /// A gap closing towards a vertex the two edges share at an acute corner (a wedge)
-    /// is resolved down to this (the keep_topology floor, hmin / 100, or the two CAD
-    /// tolerances): boundary_caps.cpp, cap().
+    /// is resolved down to this (L / 10, or the two CAD tolerances): boundary_caps.cpp,
+    /// cap().
     double wedge_floor;
     bool shares_end[2];  ///< its first / last node is an end of this edge
     /// At a shared end: sin of the angle between the two edges' tangents there (the
@@ -130,6 +131,9 @@ class BoundaryCaps {
     double corner_sin[2];
   };
   std::vector<std::vector<Neighbour>> nbrs_;  ///< per edge, in the order cap() visits them
+  /// sin of the corner between edge a's end ka and edge b's end kb (one vertex), 1 when it
+  /// is no straight acute wedge.
+  static double wedge_sin(const EdgePoly& a, int ka, const EdgePoly& b, int kb);
   /// x (at gap d from nb's edge P) lies in the tip of an acute corner the two edges share.
   bool in_acute_wedge(const geom::Vec3& x, const EdgePoly& P, const Neighbour& nb, double d) const;
   double beta_ = 1.3, floor_ = 0.0, prox_floor_ = 0.0, eps_ = 0.0;
