@@ -35,8 +35,7 @@ Physicals physicals(const geom::Model* model, const Counts& c, bool on);
 
 // `vol` (may be null): tetrahedra written with the surface mesh (WriteOptions::volume).
 void write_msh41(Sink& out, const surface::SurfaceMesh& m, const geom::Model* model,
-                 const Counts& c, const Physicals& phys, bool binary,
-                 const surface::TetMesh* vol);
+                 const Counts& c, const Physicals& phys, bool binary, const surface::TetMesh* vol);
 void write_msh22(Sink& out, const surface::SurfaceMesh& m, Physicals phys,
                  const surface::TetMesh* vol);
 void write_medit(Sink& out, const surface::SurfaceMesh& m, const surface::TetMesh* vol);

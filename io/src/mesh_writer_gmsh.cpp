@@ -142,7 +142,8 @@ void group_by_entity(Msh41Layout& L) {
                   [&](std::size_t t) { return static_cast<std::size_t>(m.triangle_face[t]); });
   if (!L.vol) return;
   const surface::TetMesh& v = *L.vol;
-  for (geom::Id s : v.interior_point_solid) L.solids = std::max(L.solids, static_cast<std::size_t>(s) + 1);
+  for (geom::Id s : v.interior_point_solid)
+    L.solids = std::max(L.solids, static_cast<std::size_t>(s) + 1);
   for (geom::Id s : v.tet_solid) L.solids = std::max(L.solids, static_cast<std::size_t>(s) + 1);
   L.interior = bucket(v.interior_point_solid.size(), L.solids, [&](std::size_t i) {
     return static_cast<std::size_t>(v.interior_point_solid[i]);

@@ -535,15 +535,14 @@ std::string attach_uv(SurfaceMesh& m, const geom::Model& model) {
 
 nlohmann::json tet_report_json(const surface::TetMesh& v) {
   auto quality = [](const surface::TetQualityReport& q) {
-    return nlohmann::json{{"tets", q.tets},
-                          {"inverted", q.inverted},
-                          {"volume", q.volume},
-                          {"min_dihedral_deg", {{"min", q.dihedral_min},
-                                                {"p01", q.dihedral_p1},
-                                                {"median", q.dihedral_p50}}},
-                          {"radius_edge", {{"max", q.radius_edge_max},
-                                           {"p99", q.radius_edge_p99},
-                                           {"median", q.radius_edge_p50}}}};
+    return nlohmann::json{
+        {"tets", q.tets},
+        {"inverted", q.inverted},
+        {"volume", q.volume},
+        {"min_dihedral_deg",
+         {{"min", q.dihedral_min}, {"p01", q.dihedral_p1}, {"median", q.dihedral_p50}}},
+        {"radius_edge",
+         {{"max", q.radius_edge_max}, {"p99", q.radius_edge_p99}, {"median", q.radius_edge_p50}}}};
   };
   nlohmann::json j = quality(surface::measure_tet_quality(v));
   j["points"] = v.points.size();

@@ -313,8 +313,7 @@ struct VolumeRun {
   nlohmann::json solids = nlohmann::json::array();
 };
 
-VolumeRun fill_volume(const MeshFlags& f, const geom::Model& model,
-                      const surface::MeshResult& r) {
+VolumeRun fill_volume(const MeshFlags& f, const geom::Model& model, const surface::MeshResult& r) {
   VolumeRun v;
   v.requested = f.volume;
   if (!f.volume) return v;

@@ -33,9 +33,8 @@ double tet_min_dihedral_deg(const Vec3& a, const Vec3& b, const Vec3& c, const V
   double best = std::numbers::pi;
   for (int k = 0; k < 4; ++k)
     for (int l = k + 1; l < 4; ++l) {
-      const double cosine =
-          std::clamp(glm::dot(n[static_cast<std::size_t>(k)], n[static_cast<std::size_t>(l)]),
-                     -1.0, 1.0);
+      const double cosine = std::clamp(
+          glm::dot(n[static_cast<std::size_t>(k)], n[static_cast<std::size_t>(l)]), -1.0, 1.0);
       best = std::min(best, std::numbers::pi - std::acos(cosine));
     }
   return best * 180.0 / std::numbers::pi;
@@ -49,9 +48,8 @@ double tet_radius_edge(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& 
   const Vec3 num = glm::dot(u, u) * glm::cross(v, w) + glm::dot(v, v) * glm::cross(w, u) +
                    glm::dot(w, w) * glm::cross(u, v);
   const double radius = glm::length(num) / (2.0 * std::abs(det));
-  const double shortest =
-      std::min({glm::length(a - b), glm::length(a - c), glm::length(a - d),
-                glm::length(b - c), glm::length(b - d), glm::length(c - d)});
+  const double shortest = std::min({glm::length(a - b), glm::length(a - c), glm::length(a - d),
+                                    glm::length(b - c), glm::length(b - d), glm::length(c - d)});
   return shortest > 0 ? radius / shortest : inf;
 }
 

@@ -43,7 +43,9 @@ std::string solid_label(const geom::Model& model, geom::Id s) {
   return label;
 }
 
-std::pair<NodeId, NodeId> undirected(NodeId a, NodeId b) { return {std::min(a, b), std::max(a, b)}; }
+std::pair<NodeId, NodeId> undirected(NodeId a, NodeId b) {
+  return {std::min(a, b), std::max(a, b)};
+}
 
 // The solid's triangles oriented outward, or why they cannot be. An interface face is
 // oriented for one of its two solids only, so orientation is decided per solid: faces are
@@ -60,7 +62,8 @@ std::optional<std::vector<Tri>> orient_outward(const SurfaceMesh& m, const Solid
     const Tri& tri = m.triangles[static_cast<std::size_t>(t)];
     const std::size_t f = face_index.at(m.triangle_face[static_cast<std::size_t>(t)]);
     for (int i = 0; i < 3; ++i) {
-      const NodeId a = tri[static_cast<std::size_t>(i)], b = tri[static_cast<std::size_t>((i + 1) % 3)];
+      const NodeId a = tri[static_cast<std::size_t>(i)],
+                   b = tri[static_cast<std::size_t>((i + 1) % 3)];
       uses[undirected(a, b)].push_back({f, a < b});
     }
   }
@@ -116,9 +119,9 @@ std::optional<std::vector<Tri>> orient_outward(const SurfaceMesh& m, const Solid
     const std::size_t f = face_index.at(m.triangle_face[static_cast<std::size_t>(t)]);
     if (flip[f]) std::swap(tri[1], tri[2]);
     const geom::Vec3 o(0.0);
-    volume[static_cast<std::size_t>(component[f])] +=
-        tet_volume(o, m.points[static_cast<std::size_t>(tri[0])],
-                   m.points[static_cast<std::size_t>(tri[1])], m.points[static_cast<std::size_t>(tri[2])]);
+    volume[static_cast<std::size_t>(component[f])] += tet_volume(
+        o, m.points[static_cast<std::size_t>(tri[0])], m.points[static_cast<std::size_t>(tri[1])],
+        m.points[static_cast<std::size_t>(tri[2])]);
     out.push_back(tri);
     out_component.push_back(component[f]);
   }
@@ -144,8 +147,8 @@ std::mutex& netgen_mutex() {
 }
 
 struct NetgenOutput {
-  std::vector<geom::Vec3> points;           // Netgen's points, in its order
-  std::vector<std::array<int, 4>> tets;     // 0-based into points
+  std::vector<geom::Vec3> points;        // Netgen's points, in its order
+  std::vector<std::array<int, 4>> tets;  // 0-based into points
   std::string error;
 };
 
@@ -184,7 +187,8 @@ NetgenOutput run_netgen(const std::vector<geom::Vec3>& local, const std::vector<
     mp.optvolmeshenable = opts.optimize_steps > 0 ? 1 : 0;
     const nglib::Ng_Result r = nglib::Ng_GenerateVolumeMesh(mesh, &mp);
     if (r != nglib::NG_OK) {
-      out.error = "Netgen's volume mesher failed (Ng_Result " + std::to_string(static_cast<int>(r)) + ")";
+      out.error =
+          "Netgen's volume mesher failed (Ng_Result " + std::to_string(static_cast<int>(r)) + ")";
     } else {
       const int np = nglib::Ng_GetNP(mesh), ne = nglib::Ng_GetNE(mesh);
       out.points.resize(static_cast<std::size_t>(np));
@@ -231,13 +235,15 @@ std::string verify(const std::vector<geom::Vec3>& local, const std::vector<Tri>&
     for (int k : t)
       if (k < 0 || static_cast<std::size_t>(k) >= ng.points.size())
         return "Netgen returned a tetrahedron with an invalid point index";
-    const double v = tet_volume(ng.points[static_cast<std::size_t>(t[0])], ng.points[static_cast<std::size_t>(t[1])],
-                                ng.points[static_cast<std::size_t>(t[2])], ng.points[static_cast<std::size_t>(t[3])]);
+    const double v = tet_volume(
+        ng.points[static_cast<std::size_t>(t[0])], ng.points[static_cast<std::size_t>(t[1])],
+        ng.points[static_cast<std::size_t>(t[2])], ng.points[static_cast<std::size_t>(t[3])]);
     if (v == 0.0) return "Netgen returned a flat tetrahedron";
     if (v < 0) std::swap(t[2], t[3]);
     static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
     for (const auto& f : kFace) {
-      std::array<int, 3> key = {t[static_cast<std::size_t>(f[0])], t[static_cast<std::size_t>(f[1])],
+      std::array<int, 3> key = {t[static_cast<std::size_t>(f[0])],
+                                t[static_cast<std::size_t>(f[1])],
                                 t[static_cast<std::size_t>(f[2])]};
       std::sort(key.begin(), key.end());
       ++faces[key];
@@ -266,8 +272,8 @@ void fill_one(const geom::Model& model, const SurfaceMesh& m, geom::Id s, const 
               VolumeResult& res) {
   const auto t0 = std::chrono::steady_clock::now();
   auto fail = [&](const std::string& reason) {
-    res.failed.push_back({s, model.solids[static_cast<std::size_t>(s)].name,
-                          solid_label(model, s) + ": " + reason});
+    res.failed.push_back(
+        {s, model.solids[static_cast<std::size_t>(s)].name, solid_label(model, s) + ": " + reason});
   };
   const SolidSurface ss = solid_surface(m, model, s);
   if (ss.triangles.empty()) return fail("no triangles on its faces");

@@ -103,10 +103,10 @@ TopologyReport check_topology(const SurfaceMesh& m, const TopologyOptions& opt =
 /// the report (io::CheckData::solids) and the volume stage (volume.h).
 struct SolidSurface {
   geom::Id solid = geom::kNone;
-  bool closed = false;            ///< every shell of the solid is closed in the model
-  std::vector<geom::Id> faces;    ///< the faces of its shells, ascending
-  std::vector<TriId> triangles;   ///< the mesh's triangles on those faces, ascending
-  std::size_t free_edges = 0;     ///< edges used by one of those triangles
+  bool closed = false;                 ///< every shell of the solid is closed in the model
+  std::vector<geom::Id> faces;         ///< the faces of its shells, ascending
+  std::vector<TriId> triangles;        ///< the mesh's triangles on those faces, ascending
+  std::size_t free_edges = 0;          ///< edges used by one of those triangles
   std::size_t non_manifold_edges = 0;  ///< edges used by three or more of them
   /// Closed in the model and in the mesh: what a volume mesher can fill.
   bool watertight() const {
