@@ -22,6 +22,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "uvmesh/geom/occ.h"
 #include "uvmesh/io/cad_reader.h"
@@ -113,6 +114,24 @@ TEST_CASE("volume: a box is filled, its surface mesh is the tetrahedra's boundar
   CHECK(std::abs(q.volume - props.Mass()) <= 1e-9 * props.Mass());
   CHECK(q.dihedral_min > 0.0);
   CHECK(q.radius_edge_max < 1e3);
+}
+
+TEST_CASE("volume: two threads filling at once get what one thread gets", "[volume]") {
+  // Netgen's state is global; fill_solids serializes its sessions (volume.h).
+  const geom::Model m = geom::model_from_occ(BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape(), {});
+  const surface::MeshResult r = mesh(m, 8);
+  const surface::VolumeResult one = fill(m, r);
+  REQUIRE(one.ok());
+  surface::VolumeResult a, b;
+  std::thread ta([&] { a = fill(m, r); });
+  std::thread tb([&] { b = fill(m, r); });
+  ta.join();
+  tb.join();
+  for (const surface::VolumeResult* v : {&a, &b}) {
+    REQUIRE(v->ok());
+    CHECK(v->mesh.tets == one.mesh.tets);
+    CHECK(v->mesh.points == one.mesh.points);
+  }
 }
 
 TEST_CASE("volume: tetrahedron measures of the regular and a flat tetrahedron", "[volume]") {
