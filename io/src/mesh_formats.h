@@ -10,6 +10,7 @@
 #include "mesh_sink.h"
 #include "uvmesh/geom/model.h"
 #include "uvmesh/surface/surface_mesh.h"
+#include "uvmesh/surface/tet_mesh.h"
 
 namespace uvmesh::io::detail {
 
@@ -32,10 +33,12 @@ struct Physicals {
 
 Physicals physicals(const geom::Model* model, const Counts& c, bool on);
 
+// `vol` (may be null): tetrahedra written with the surface mesh (WriteOptions::volume).
 void write_msh41(Sink& out, const surface::SurfaceMesh& m, const geom::Model* model,
-                 const Counts& c, const Physicals& phys, bool binary);
-void write_msh22(Sink& out, const surface::SurfaceMesh& m, Physicals phys);
-void write_medit(Sink& out, const surface::SurfaceMesh& m);
+                 const Counts& c, const Physicals& phys, bool binary, const surface::TetMesh* vol);
+void write_msh22(Sink& out, const surface::SurfaceMesh& m, Physicals phys,
+                 const surface::TetMesh* vol);
+void write_medit(Sink& out, const surface::SurfaceMesh& m, const surface::TetMesh* vol);
 void write_meshb(Sink& out, const surface::SurfaceMesh& m);
 void write_tetgen(Sink& out, const surface::SurfaceMesh& m, bool smesh);
 void write_ply(Sink& out, const surface::SurfaceMesh& m, bool binary);
@@ -43,6 +46,6 @@ void write_stl_binary(Sink& out, const surface::SurfaceMesh& m);
 void write_stl_ascii(Sink& out, const surface::SurfaceMesh& m);
 void write_obj(Sink& out, const surface::SurfaceMesh& m, const Counts& c);
 void write_vtk(Sink& out, const surface::SurfaceMesh& m, bool binary);
-void write_vtu(Sink& out, const surface::SurfaceMesh& m, bool binary);
+void write_vtu(Sink& out, const surface::SurfaceMesh& m, bool binary, const surface::TetMesh* vol);
 
 }  // namespace uvmesh::io::detail

@@ -84,6 +84,33 @@ class TempFile {
 
 // ----------------------------------------------------------------------------- validation
 
+// Tetrahedra must extend the surface mesh: its points first and unchanged, every index in
+// range, every solid id one the file can name.
+std::string validate_volume(const SurfaceMesh& m, const geom::Model* model,
+                            const surface::TetMesh& v) {
+  const std::size_t np = v.points.size();
+  if (np > static_cast<std::size_t>(std::numeric_limits<NodeId>::max()))
+    return "too many points for 32-bit node ids";
+  if (v.surface_points != m.points.size() || np < m.points.size() ||
+      !std::equal(m.points.begin(), m.points.end(), v.points.begin()))
+    return "invalid volume mesh: its points do not start with the surface mesh's";
+  if (v.interior_point_solid.size() != np - m.points.size() || v.tet_solid.size() != v.tets.size())
+    return "invalid volume mesh: array sizes disagree";
+  const std::size_t solids = model ? model->solids.size() : std::numeric_limits<std::size_t>::max();
+  auto solid_ok = [&](geom::Id s) { return s >= 0 && static_cast<std::size_t>(s) < solids; };
+  for (geom::Id s : v.interior_point_solid)
+    if (!solid_ok(s)) return "invalid volume mesh: an interior point has no valid solid";
+  for (std::size_t t = 0; t < v.tets.size(); ++t) {
+    for (NodeId n : v.tets[t])
+      if (n < 0 || static_cast<std::size_t>(n) >= np)
+        return "invalid volume mesh: tetrahedron " + std::to_string(t) +
+               " has a node index out of range";
+    if (!solid_ok(v.tet_solid[t]))
+      return "invalid volume mesh: tetrahedron " + std::to_string(t) + " has no valid solid";
+  }
+  return "";
+}
+
 std::string validate(const SurfaceMesh& m, const geom::Model* model, Counts& c) {
   const std::size_t np = m.points.size(), nt = m.triangles.size();
   if (np > static_cast<std::size_t>(std::numeric_limits<NodeId>::max()))
@@ -216,6 +243,10 @@ std::string check_format(MeshFormat f, const SurfaceMesh& m, const WriteOptions&
     return "there is no binary form of " + std::string(format_name(f)) + " here";
   if (binary_only && opts.encoding == Encoding::Ascii)
     return std::string(format_name(f)) + " has no ASCII form";
+  if (opts.volume && f != MeshFormat::Msh41 && f != MeshFormat::Msh22 && f != MeshFormat::Medit &&
+      f != MeshFormat::Vtu)
+    return std::string(format_name(f)) +
+           " cannot carry tetrahedra (volume meshes: .msh, .mesh or .vtu)";
   // Legacy VTK, VTU, binary STL, PLY and .meshb count in 32 bits.
   const std::size_t int32_max = static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max());
   if ((f == MeshFormat::Vtk || f == MeshFormat::Vtu) && 4 * m.triangles.size() > int32_max)
@@ -237,16 +268,16 @@ std::string check_format(MeshFormat f, const SurfaceMesh& m, const WriteOptions&
 // The file's bytes in format f (Draco's already encoded in `encoded`).
 void write_format(Sink& out, MeshFormat f, const SurfaceMesh& m, const geom::Model* model,
                   const Counts& counts, const Physicals& phys, bool binary,
-                  const std::vector<char>& encoded) {
+                  const std::vector<char>& encoded, const surface::TetMesh* vol) {
   switch (f) {
     case MeshFormat::Msh41:
-      write_msh41(out, m, model, counts, phys, binary);
+      write_msh41(out, m, model, counts, phys, binary, vol);
       break;
     case MeshFormat::Msh22:
-      write_msh22(out, m, phys);
+      write_msh22(out, m, phys, vol);
       break;
     case MeshFormat::Medit:
-      write_medit(out, m);
+      write_medit(out, m, vol);
       break;
     case MeshFormat::Meshb:
       write_meshb(out, m);
@@ -267,7 +298,7 @@ void write_format(Sink& out, MeshFormat f, const SurfaceMesh& m, const geom::Mod
       write_vtk(out, m, binary);
       break;
     case MeshFormat::Vtu:
-      write_vtu(out, m, binary);
+      write_vtu(out, m, binary, vol);
       break;
     case MeshFormat::Poly:
       write_tetgen(out, m, false);
@@ -296,6 +327,8 @@ WriteResult write_mesh(const surface::SurfaceMesh& m, const geom::Model* model,
 
   Counts counts;
   if (std::string why = validate(m, model, counts); !why.empty()) return fail(why);
+  if (opts.volume)
+    if (std::string why = validate_volume(m, model, *opts.volume); !why.empty()) return fail(why);
 
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return fail("is a directory");
@@ -312,7 +345,7 @@ WriteResult write_mesh(const surface::SurfaceMesh& m, const geom::Model* model,
   if (std::string why = tmp.open(path); !why.empty()) return fail(why);
   Sink out(tmp.fd());
   const Physicals phys = physicals(model, counts, opts.physical_groups);
-  write_format(out, f, m, model, counts, phys, binary, encoded);
+  write_format(out, f, m, model, counts, phys, binary, encoded, opts.volume);
   out.flush();
   if (out.error() != 0) return fail(std::string("write failed: ") + std::strerror(out.error()));
   if (std::string why = tmp.commit(path); !why.empty()) return fail(why);

@@ -23,9 +23,9 @@ using surface::SurfaceMesh;
 
 // ----------------------------------------------------------------------------- Medit
 
-void write_medit(Sink& out, const SurfaceMesh& m) {
+void write_medit(Sink& out, const SurfaceMesh& m, const surface::TetMesh* vol) {
   out.put("MeshVersionFormatted 2\n\nDimension 3\n\nVertices\n");
-  out.num(m.points.size());
+  out.num(vol ? vol->points.size() : m.points.size());
   out.put('\n');
   for (std::size_t i = 0; i < m.points.size(); ++i) {
     out.xyz(m.points[i]);
@@ -33,6 +33,13 @@ void write_medit(Sink& out, const SurfaceMesh& m) {
     out.num(one_based(m.point_entity[i]));
     out.put('\n');
   }
+  if (vol)
+    for (std::size_t i = m.points.size(); i < vol->points.size(); ++i) {
+      out.xyz(vol->points[i]);
+      out.put(' ');
+      out.num(one_based(vol->interior_point_solid[i - m.points.size()]));
+      out.put('\n');
+    }
   // Empty sections are left out: some readers reject a keyword followed by 0.
   if (!m.segments.empty()) {
     out.put("\nEdges\n");
@@ -48,6 +55,16 @@ void write_medit(Sink& out, const SurfaceMesh& m) {
       const auto& tri = m.triangles[t];
       out.line(
           {one_based(tri[0]), one_based(tri[1]), one_based(tri[2]), one_based(m.triangle_face[t])});
+    }
+  }
+  if (vol && !vol->tets.empty()) {
+    out.put("\nTetrahedra\n");
+    out.num(vol->tets.size());
+    out.put('\n');
+    for (std::size_t t = 0; t < vol->tets.size(); ++t) {
+      const auto& tet = vol->tets[t];
+      out.line({one_based(tet[0]), one_based(tet[1]), one_based(tet[2]), one_based(tet[3]),
+                one_based(vol->tet_solid[t])});
     }
   }
   out.put("\nEnd\n");
@@ -337,15 +354,18 @@ class Base64 {
 
 }  // namespace
 
-void write_vtu(Sink& out, const SurfaceMesh& m, bool binary) {
-  const std::size_t np = m.points.size(), nt = m.triangles.size();
+void write_vtu(Sink& out, const SurfaceMesh& m, bool binary, const surface::TetMesh* vol) {
+  const std::vector<geom::Vec3>& points = vol ? vol->points : m.points;
+  const std::size_t np = points.size(), nt = m.triangles.size();
+  // Cells: the triangles, then the tetrahedra (with a volume mesh).
+  const std::size_t nc = nt + (vol ? vol->tets.size() : 0);
   out.put(
       "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
       "byte_order=\"LittleEndian\" header_type=\"UInt32\">\n<UnstructuredGrid>\n<Piece "
       "NumberOfPoints=\"");
   out.num(np);
   out.put("\" NumberOfCells=\"");
-  out.num(nt);
+  out.num(nc);
   out.put("\">\n");
   // One array: n values produced by value(i, sink) in ASCII or by value(i, base64).
   auto array = [&](const char* type, const char* name, int components, std::size_t n,
@@ -372,36 +392,65 @@ void write_vtu(Sink& out, const SurfaceMesh& m, bool binary) {
   array(
       "Float64", "Points", 3, np, 24,
       [&](std::size_t i) {
-        out.xyz(m.points[i]);
+        out.xyz(points[i]);
         out.put('\n');
       },
       [&](std::size_t i, Base64& b) {
-        b.le(m.points[i].x);
-        b.le(m.points[i].y);
-        b.le(m.points[i].z);
+        b.le(points[i].x);
+        b.le(points[i].y);
+        b.le(points[i].z);
       });
   out.put("</Points>\n<Cells>\n");
+  // The connectivity array is written value by value so that triangles (3) and
+  // tetrahedra (4) share it; an ASCII line per cell as before.
+  const std::size_t n_conn = 3 * nt + 4 * (nc - nt);
+  auto cell_nodes = [&](std::size_t c) -> std::vector<NodeId> {
+    if (c < nt) return {m.triangles[c].begin(), m.triangles[c].end()};
+    const auto& tet = vol->tets[c - nt];
+    return {tet.begin(), tet.end()};
+  };
+  auto offset = [&](std::size_t c) {
+    return static_cast<std::int64_t>(c < nt ? 3 * (c + 1) : 3 * nt + 4 * (c + 1 - nt));
+  };
+  if (binary) {
+    array(
+        "Int32", "connectivity", 1, n_conn, 4, [](std::size_t) {},
+        [&](std::size_t k, Base64& b) {
+          const NodeId v = k < 3 * nt ? m.triangles[k / 3][k % 3]
+                                      : vol->tets[(k - 3 * nt) / 4][(k - 3 * nt) % 4];
+          b.le(static_cast<std::int32_t>(v));
+        });
+  } else {
+    array(
+        "Int32", "connectivity", 1, nc, 0,
+        [&](std::size_t c) {
+          const std::vector<NodeId> v = cell_nodes(c);
+          if (v.size() == 3)
+            out.line({v[0], v[1], v[2]});
+          else
+            out.line({v[0], v[1], v[2], v[3]});
+        },
+        [](std::size_t, Base64&) {});
+  }
   array(
-      "Int32", "connectivity", 1, nt, 12,
-      [&](std::size_t t) {
-        const auto& tri = m.triangles[t];
-        out.line({tri[0], tri[1], tri[2]});
-      },
-      [&](std::size_t t, Base64& b) {
-        for (NodeId v : m.triangles[t]) b.le(static_cast<std::int32_t>(v));
-      });
+      "Int32", "offsets", 1, nc, 4, [&](std::size_t c) { out.line({offset(c)}); },
+      [&](std::size_t c, Base64& b) { b.le(static_cast<std::int32_t>(offset(c))); });
+  constexpr std::uint8_t kVtkTriangle = 5, kVtkTetra = 10;
   array(
-      "Int32", "offsets", 1, nt, 4,
-      [&](std::size_t t) { out.line({static_cast<std::int64_t>(3 * (t + 1))}); },
-      [&](std::size_t t, Base64& b) { b.le(static_cast<std::int32_t>(3 * (t + 1))); });
-  constexpr std::uint8_t kVtkTriangle = 5;
-  array(
-      "UInt8", "types", 1, nt, 1, [&](std::size_t) { out.line({kVtkTriangle}); },
-      [&](std::size_t, Base64& b) { b.le(kVtkTriangle); });
+      "UInt8", "types", 1, nc, 1,
+      [&](std::size_t c) { out.line({c < nt ? kVtkTriangle : kVtkTetra}); },
+      [&](std::size_t c, Base64& b) { b.le(c < nt ? kVtkTriangle : kVtkTetra); });
   out.put("</Cells>\n<CellData Scalars=\"face_id\">\n");
+  auto face_of = [&](std::size_t c) { return c < nt ? m.triangle_face[c] : geom::kNone; };
   array(
-      "Int32", "face_id", 1, nt, 4, [&](std::size_t t) { out.line({m.triangle_face[t]}); },
-      [&](std::size_t t, Base64& b) { b.le(static_cast<std::int32_t>(m.triangle_face[t])); });
+      "Int32", "face_id", 1, nc, 4, [&](std::size_t c) { out.line({face_of(c)}); },
+      [&](std::size_t c, Base64& b) { b.le(static_cast<std::int32_t>(face_of(c))); });
+  if (vol) {
+    auto solid_of = [&](std::size_t c) { return c < nt ? geom::kNone : vol->tet_solid[c - nt]; };
+    array(
+        "Int32", "solid_id", 1, nc, 4, [&](std::size_t c) { out.line({solid_of(c)}); },
+        [&](std::size_t c, Base64& b) { b.le(static_cast<std::int32_t>(solid_of(c))); });
+  }
   out.put("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
 }
 

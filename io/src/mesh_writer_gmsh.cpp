@@ -100,12 +100,17 @@ struct Volume {
 // What a .msh 4.1 file says about the mesh's entities, gathered before writing: nodes
 // and elements grouped by entity, boxes, bounding entities.
 struct Msh41Layout {
-  Msh41Layout(const SurfaceMesh& mesh, const geom::Model* mdl, const Counts& counts)
-      : m(mesh), model(mdl), c(counts) {}
+  Msh41Layout(const SurfaceMesh& mesh, const geom::Model* mdl, const Counts& counts,
+              const surface::TetMesh* volume)
+      : m(mesh), model(mdl), c(counts), vol(volume) {}
   const SurfaceMesh& m;
   const geom::Model* model;
   const Counts& c;
+  const surface::TetMesh* vol;  // null: surface only
   NodeGroups ng;
+  // With tetrahedra: interior nodes (index - surface points) and tetrahedra per solid.
+  Buckets interior, tets;
+  std::size_t solids = 0;
   Buckets segs, tris;
   std::vector<geom::Box3> curve_box, surface_box;
   std::vector<std::vector<std::int64_t>> curve_points, surface_curves;
@@ -135,6 +140,16 @@ void group_by_entity(Msh41Layout& L) {
                   [&](std::size_t s) { return static_cast<std::size_t>(m.segments[s].edge); });
   L.tris = bucket(m.triangles.size(), c.faces,
                   [&](std::size_t t) { return static_cast<std::size_t>(m.triangle_face[t]); });
+  if (!L.vol) return;
+  const surface::TetMesh& v = *L.vol;
+  for (geom::Id s : v.interior_point_solid)
+    L.solids = std::max(L.solids, static_cast<std::size_t>(s) + 1);
+  for (geom::Id s : v.tet_solid) L.solids = std::max(L.solids, static_cast<std::size_t>(s) + 1);
+  L.interior = bucket(v.interior_point_solid.size(), L.solids, [&](std::size_t i) {
+    return static_cast<std::size_t>(v.interior_point_solid[i]);
+  });
+  L.tets = bucket(v.tets.size(), L.solids,
+                  [&](std::size_t t) { return static_cast<std::size_t>(v.tet_solid[t]); });
 }
 
 // Bounding boxes from the mesh (the file describes the mesh; a model's curves need not
@@ -294,10 +309,11 @@ void write_msh41_entities(Sink& out, Record& r, const Msh41Layout& L, const Phys
 void write_msh41_nodes(Sink& out, Record& r, const Msh41Layout& L) {
   const Counts& c = L.c;
   const NodeGroups& ng = L.ng;
-  const std::size_t np = L.m.points.size();
+  const std::size_t np = L.vol ? L.vol->points.size() : L.m.points.size();
   const std::size_t num_keys = ng.b.first.size() - 1;
   std::size_t node_blocks = 0;
   for (std::size_t k = 0; k < num_keys; ++k) node_blocks += ng.b.size(k) > 0;
+  for (std::size_t s = 0; s < L.solids; ++s) node_blocks += L.interior.size(s) > 0;
   out.put("$Nodes\n");
   r.z(i64(node_blocks)).z(i64(np)).z(np > 0 ? 1 : 0).z(i64(np)).end();
   for (int dim = 0; dim < 3; ++dim) {
@@ -309,6 +325,13 @@ void write_msh41_nodes(Sink& out, Record& r, const Msh41Layout& L) {
       ng.b.each(k, [&](std::size_t i) { r.z(one_based(i)).end(); });
       ng.b.each(k, [&](std::size_t i) { r.xyz(L.m.points[i]).end(); });
     }
+  }
+  const std::size_t first_interior = L.m.points.size();
+  for (std::size_t s = 0; s < L.solids; ++s) {
+    if (L.interior.size(s) == 0) continue;
+    r.i(3).i(one_based(s)).i(0).z(i64(L.interior.size(s))).end();
+    L.interior.each(s, [&](std::size_t i) { r.z(one_based(first_interior + i)).end(); });
+    L.interior.each(s, [&](std::size_t i) { r.xyz(L.vol->points[first_interior + i]).end(); });
   }
   if (r.binary()) out.put('\n');
   out.put("$EndNodes\n");
@@ -325,7 +348,9 @@ void write_msh41_elements(Sink& out, Record& r, const Msh41Layout& L) {
   for (std::size_t v = 0; v < c.vertices; ++v) elem_blocks += L.has_point(v);
   for (std::size_t e = 0; e < c.edges; ++e) elem_blocks += L.segs.size(e) > 0;
   for (std::size_t f = 0; f < c.faces; ++f) elem_blocks += L.tris.size(f) > 0;
-  const std::size_t n_elems = vertex_nodes + m.segments.size() + m.triangles.size();
+  for (std::size_t s = 0; s < L.solids; ++s) elem_blocks += L.tets.size(s) > 0;
+  const std::size_t n_elems =
+      vertex_nodes + m.segments.size() + m.triangles.size() + (L.vol ? L.vol->tets.size() : 0);
   out.put("$Elements\n");
   r.z(i64(elem_blocks)).z(i64(n_elems)).z(n_elems > 0 ? 1 : 0).z(i64(n_elems)).end();
   // One block per entity that has elements: "dim tag type n", then n records
@@ -350,6 +375,10 @@ void write_msh41_elements(Sink& out, Record& r, const Msh41Layout& L) {
   blocks(2, 2, L.tris, 0, c.faces, [&](std::size_t t) {
     for (NodeId v : m.triangles[t]) r.z(one_based(v));
   });
+  if (L.vol)
+    blocks(3, 4, L.tets, 0, L.solids, [&](std::size_t t) {
+      for (NodeId v : L.vol->tets[t]) r.z(one_based(v));
+    });
   if (r.binary()) out.put('\n');
   out.put("$EndElements\n");
 }
@@ -357,8 +386,8 @@ void write_msh41_elements(Sink& out, Record& r, const Msh41Layout& L) {
 }  // namespace
 
 void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, const Counts& c,
-                 const Physicals& phys, bool binary) {
-  Msh41Layout L(m, model, c);
+                 const Physicals& phys, bool binary, const surface::TetMesh* vol) {
+  Msh41Layout L(m, model, c, vol);
   group_by_entity(L);
   entity_boxes(L);
   curve_bounding_points(L);
@@ -375,24 +404,34 @@ void write_msh41(Sink& out, const SurfaceMesh& m, const geom::Model* model, cons
 
 // The legacy format many solvers still read: one node list, one element list whose
 // records carry "physical elementary" tags. No volume elements exist in a surface mesh,
-// so the solids' groups cannot appear (they need the 4.1 entities).
-void write_msh22(Sink& out, const SurfaceMesh& m, Physicals phys) {
+// so without tetrahedra the solids' groups cannot appear (they need the 4.1 entities);
+// with them, each solid's tetrahedra carry its volume group.
+void write_msh22(Sink& out, const SurfaceMesh& m, Physicals phys, const surface::TetMesh* vol) {
   out.put("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
-  phys.solids = false;
-  write_physical_names(out, phys, {});
+  std::vector<std::int64_t> volume_tags;
+  if (vol && phys.solids) {
+    std::vector<char> has(phys.solid_names.size(), 0);
+    for (geom::Id s : vol->tet_solid) has[static_cast<std::size_t>(s)] = 1;
+    for (std::size_t s = 0; s < has.size(); ++s)
+      if (has[s]) volume_tags.push_back(one_based(s));
+  } else {
+    phys.solids = false;
+  }
+  write_physical_names(out, phys, volume_tags);
+  const std::vector<geom::Vec3>& points = vol ? vol->points : m.points;
   out.put("$Nodes\n");
-  out.num(m.points.size());
+  out.num(points.size());
   out.put('\n');
-  for (std::size_t i = 0; i < m.points.size(); ++i) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
     out.num(one_based(i));
     out.put(' ');
-    out.xyz(m.points[i]);
+    out.xyz(points[i]);
     out.put('\n');
   }
   out.put("$EndNodes\n$Elements\n");
   std::size_t n_vertices = 0;
   for (std::size_t i = 0; i < m.points.size(); ++i) n_vertices += m.point_dim[i] == 0;
-  out.num(n_vertices + m.segments.size() + m.triangles.size());
+  out.num(n_vertices + m.segments.size() + m.triangles.size() + (vol ? vol->tets.size() : 0));
   out.put('\n');
   std::int64_t tag = 1;
   for (std::size_t i = 0; i < m.points.size(); ++i)
@@ -406,6 +445,13 @@ void write_msh22(Sink& out, const SurfaceMesh& m, Physicals phys) {
     out.line({tag++, 2, 2, phys.face_group.empty() ? 0 : phys.face_group[f], one_based(f),
               one_based(tri[0]), one_based(tri[1]), one_based(tri[2])});
   }
+  if (vol)
+    for (std::size_t t = 0; t < vol->tets.size(); ++t) {
+      const std::int64_t solid = one_based(vol->tet_solid[t]);
+      const auto& tet = vol->tets[t];
+      out.line({tag++, 4, 2, phys.solids ? solid : 0, solid, one_based(tet[0]), one_based(tet[1]),
+                one_based(tet[2]), one_based(tet[3])});
+    }
   out.put("$EndElements\n");
 }
 

@@ -173,35 +173,14 @@ std::vector<CheckData::SolidTopology> solid_topology(const SurfaceMesh& m,
                                                      const geom::Model& model) {
   std::vector<CheckData::SolidTopology> out;
   for (std::size_t s = 0; s < model.solids.size(); ++s) {
+    const surface::SolidSurface ss = surface::solid_surface(m, model, static_cast<geom::Id>(s));
     CheckData::SolidTopology st;
-    st.solid = static_cast<geom::Id>(s);
-    st.closed = true;
-    std::vector<char> in(model.faces.size(), 0);
-    for (geom::Id sh : model.solids[s].shells) {
-      if (sh < 0 || static_cast<std::size_t>(sh) >= model.shells.size()) continue;
-      st.closed = st.closed && model.shells[static_cast<std::size_t>(sh)].closed;
-      for (geom::Id f : model.shells[static_cast<std::size_t>(sh)].faces)
-        if (f >= 0 && static_cast<std::size_t>(f) < in.size()) in[static_cast<std::size_t>(f)] = 1;
-    }
-    for (std::size_t f = 0; f < in.size(); ++f)
-      if (in[f]) st.faces.push_back(static_cast<geom::Id>(f));
-    std::map<std::pair<NodeId, NodeId>, int> count;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-      const geom::Id f = t < m.triangle_face.size() ? m.triangle_face[t] : geom::kNone;
-      if (f < 0 || static_cast<std::size_t>(f) >= in.size() || !in[static_cast<std::size_t>(f)])
-        continue;
-      ++st.triangles;
-      const auto& tri = m.triangles[t];
-      for (int i = 0; i < 3; ++i) {
-        const NodeId a = tri[static_cast<std::size_t>(i)],
-                     b = tri[static_cast<std::size_t>((i + 1) % 3)];
-        ++count[{std::min(a, b), std::max(a, b)}];
-      }
-    }
-    for (const auto& [k, c] : count) {
-      if (c == 1) ++st.free_edges;
-      if (c > 2) ++st.non_manifold_edges;
-    }
+    st.solid = ss.solid;
+    st.closed = ss.closed;
+    st.triangles = ss.triangles.size();
+    st.free_edges = ss.free_edges;
+    st.non_manifold_edges = ss.non_manifold_edges;
+    st.faces = ss.faces;
     out.push_back(st);
   }
   return out;
@@ -552,6 +531,33 @@ std::string attach_uv(SurfaceMesh& m, const geom::Model& model) {
     }
   }
   return "";
+}
+
+nlohmann::json tet_report_json(const surface::TetMesh& v) {
+  auto quality = [](const surface::TetQualityReport& q) {
+    return nlohmann::json{
+        {"tets", q.tets},
+        {"inverted", q.inverted},
+        {"volume", q.volume},
+        {"min_dihedral_deg",
+         {{"min", q.dihedral_min}, {"p01", q.dihedral_p1}, {"median", q.dihedral_p50}}},
+        {"radius_edge",
+         {{"max", q.radius_edge_max}, {"p99", q.radius_edge_p99}, {"median", q.radius_edge_p50}}}};
+  };
+  nlohmann::json j = quality(surface::measure_tet_quality(v));
+  j["points"] = v.points.size();
+  j["interior_points"] = v.points.size() - v.surface_points;
+  std::vector<geom::Id> solids(v.tet_solid.begin(), v.tet_solid.end());
+  std::sort(solids.begin(), solids.end());
+  solids.erase(std::unique(solids.begin(), solids.end()), solids.end());
+  nlohmann::json per = nlohmann::json::array();
+  for (geom::Id s : solids) {
+    nlohmann::json one = quality(surface::measure_tet_quality(v, s));
+    one["solid"] = s;
+    per.push_back(one);
+  }
+  j["solids"] = per;
+  return j;
 }
 
 }  // namespace uvmesh::io

@@ -1,7 +1,8 @@
 // `uvmesh mesh MODEL -o OUT`: read, mesh (surface::mesh_model), check, write, report.
 //
-// Exit codes: 0 success; 1 command-line error; 2 the model could not be read; 3 some
-// faces could not be meshed (the rest is written; 0 with --allow-holes); 4 the output
+// Exit codes: 0 success; 1 command-line error (also --volume in a build without nglib);
+// 2 the model could not be read; 3 some faces could not be meshed, or with --volume some
+// solids could not be filled (the rest is written; 0 with --allow-holes); 4 the output
 // could not be written.
 #include "mesh_cmd.h"
 
@@ -28,6 +29,9 @@
 #include "uvmesh/io/report.h"
 #include "uvmesh/surface/check3d.h"
 #include "uvmesh/surface/mesher.h"
+#ifdef UVMESH_HAVE_VOLUME
+#include "uvmesh/surface/volume.h"
+#endif
 
 namespace uvmesh::cli {
 
@@ -120,6 +124,16 @@ std::string check_flags(const MeshFlags& f, const io::WriteOptions& wo) {
     }
   if (!wo.format && !io::format_from_path(f.out))
     return f.out + ": unknown mesh extension (known: " + io::known_mesh_extensions() + ")";
+  if (f.volume) {
+#ifndef UVMESH_HAVE_VOLUME
+    return "--volume needs Netgen's nglib, and this uvmesh was built without it (install "
+           "libnglib-dev and rebuild)";
+#endif
+    const io::MeshFormat fmt = wo.format ? *wo.format : *io::format_from_path(f.out);
+    if (fmt != io::MeshFormat::Msh41 && fmt != io::MeshFormat::Msh22 &&
+        fmt != io::MeshFormat::Medit && fmt != io::MeshFormat::Vtu)
+      return f.out + ": --volume writes tetrahedra to .msh, .mesh or .vtu only";
+  }
   if (!f.report.empty() && f.report == f.out)
     return f.out + ": given both as the mesh and as the report";
   if (std::string e = check_writable(f.out); !e.empty()) return e;
@@ -177,7 +191,13 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
       ->check(CLI::Range(0, 4096));
   c->add_option("--report", f.report,
                 "write a JSON report (counts, times, quality, chordal, topology)");
-  c->add_flag("--allow-holes", f.allow_holes, "exit 0 even when some faces could not be meshed");
+  c->add_flag("--allow-holes", f.allow_holes,
+              "exit 0 even when some faces could not be meshed (or, with --volume, some solids "
+              "not filled)");
+  c->add_flag("--volume", f.volume,
+              "also fill every closed solid with tetrahedra (Netgen), bounded by the surface "
+              "mesh unchanged; one region per solid (.msh, .mesh, .vtu); a solid that is not "
+              "closed is named and skipped (exit 3 unless --allow-holes)");
   c->add_flag("--no-optimize3d", f.no_optimize3d, "skip the 3D swaps and smoothing");
   c->add_option("--face-time-limit", f.face_time_limit,
                 "seconds the 2D mesher may spend on one face (0: no limit); a face beyond it is "
@@ -282,15 +302,46 @@ int size_options(const MeshFlags& f, const geom::Model& model, surface::MeshOpti
 
 struct Times {
   Clock::time_point all;
-  double read = 0, mesh = 0, write = 0;
+  double read = 0, mesh = 0, write = 0, volume = 0;
 };
+
+// The volume stage's outcome as the command uses it (the same with or without nglib).
+struct VolumeRun {
+  bool requested = false;
+  surface::TetMesh mesh;
+  std::vector<std::string> failed;  // one message per solid not filled, naming it
+  nlohmann::json solids = nlohmann::json::array();
+};
+
+VolumeRun fill_volume(const MeshFlags& f, const geom::Model& model, const surface::MeshResult& r) {
+  VolumeRun v;
+  v.requested = f.volume;
+  if (!f.volume) return v;
+#ifdef UVMESH_HAVE_VOLUME
+  surface::VolumeOptions vo;
+  vo.hmax = r.size.hmax;  // the surface's largest size bounds the tetrahedra too
+  surface::VolumeResult vr = surface::fill_solids(model, r.mesh, vo);
+  v.mesh = std::move(vr.mesh);
+  for (const auto& sf : vr.failed) v.failed.push_back(sf.message);
+  for (const auto& st : vr.solids)
+    v.solids.push_back({{"solid", st.solid},
+                        {"triangles", st.triangles},
+                        {"tets", st.tets},
+                        {"interior_points", st.interior_points},
+                        {"seconds", st.seconds}});
+#else
+  (void)model;
+  (void)r;
+#endif
+  return v;
+}
 
 // The JSON report (--report): the report of `uvmesh check` (io/report.h), plus what only
 // the mesher knows. Sets the free and non-manifold edge counts; 0, or 4 after an error
 // message.
 int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::MeshOptions& asked,
-                 const surface::MeshResult& r, const Times& times, std::size_t& free_edges,
-                 std::size_t& nonman) {
+                 const surface::MeshResult& r, const VolumeRun& vol, const Times& times,
+                 std::size_t& free_edges, std::size_t& nonman) {
   const geom::Model& model = rr.model;
   const surface::MeshOptions o = surface::effective_options(model, asked);
   const double D = model.bbox.diagonal();
@@ -321,6 +372,17 @@ int write_report(const MeshFlags& f, const io::ReadResult& rr, const surface::Me
   j["counts"]["edges"] = model.edges.size();
   j["counts"]["faces_failed"] = r.failed.size();
   nlohmann::json sec = {{"read", times.read}, {"mesh", times.mesh}, {"write", times.write}};
+  if (vol.requested) {
+    sec["volume"] = times.volume;
+    nlohmann::json v = io::tet_report_json(vol.mesh);
+    v["mesher"] = "netgen nglib";
+    v["filled"] = vol.solids;
+    v["failed_solids"] = vol.failed;
+    j["volume"] = v;
+    j["counts"]["tets"] = vol.mesh.tets.size();
+    j["counts"]["solids_filled"] = vol.solids.size();
+    j["counts"]["solids_failed"] = vol.failed.size();
+  }
   for (const auto& s : r.stages) sec["mesh_" + s.name] = s.seconds;
   // Unit edges are measured face by face, in the metric each face was meshed for.
   std::int64_t ne = 0, ns = 0, nl = 0;
@@ -418,9 +480,16 @@ int run_mesh(const MeshFlags& f) {
   const double t_mesh = since(t0);
   if (tty) std::cerr << "\r" << std::string(40, ' ') << "\r";
 
+  // ---- volume (--volume): tetrahedra in the closed solids
+  t0 = Clock::now();
+  const VolumeRun vol = fill_volume(f, model, r);
+  const double t_volume = since(t0);
+
   // ---- write (atomic: temporary file renamed over the target)
   t0 = Clock::now();
-  const io::WriteResult wr = io::write_mesh(r.mesh, &model, f.out, wo);
+  io::WriteOptions wov = wo;
+  if (vol.requested) wov.volume = &vol.mesh;
+  const io::WriteResult wr = io::write_mesh(r.mesh, &model, f.out, wov);
   const double t_write = since(t0);
   if (!wr.ok) {
     std::cerr << "uvmesh: error: " << wr.error << "\n";
@@ -437,11 +506,13 @@ int run_mesh(const MeshFlags& f) {
     for (const auto& c : r.collapsed)
       std::cerr << "uvmesh: face " << c.face
                 << " not meshed, collapsed onto one curve: " << c.reason << "\n";
+  for (const std::string& m : vol.failed) std::cerr << "uvmesh: not filled: " << m << "\n";
 
   // ---- report
   std::size_t free_edges = 0, nonman = 0;
   if (!f.report.empty())
-    if (int rc = write_report(f, rr, o, r, {t_all, t_read, t_mesh, t_write}, free_edges, nonman);
+    if (int rc = write_report(f, rr, o, r, vol, {t_all, t_read, t_mesh, t_write, t_volume},
+                              free_edges, nonman);
         rc != 0)
       return rc;
 
@@ -454,11 +525,20 @@ int run_mesh(const MeshFlags& f) {
     if (!r.collapsed.empty()) std::cerr << " (" << r.collapsed.size() << " collapsed strips)";
     if (!f.report.empty())
       std::cerr << ", " << free_edges << " free / " << nonman << " non-manifold edges";
+    if (vol.requested)
+      std::cerr << "; " << vol.mesh.tets.size() << " tetrahedra in " << vol.solids.size() << "/"
+                << model.solids.size() << " solids in " << t_volume << " s";
     std::cerr << "\n";
   }
   if (!r.failed.empty() && !f.allow_holes) {
     std::cerr << "uvmesh: error: " << r.failed.size()
               << " face(s) could not be meshed (the mesh was written with holes; --allow-holes "
+                 "accepts that)\n";
+    return 3;
+  }
+  if (!vol.failed.empty() && !f.allow_holes) {
+    std::cerr << "uvmesh: error: " << vol.failed.size()
+              << " solid(s) could not be filled (the others were written; --allow-holes "
                  "accepts that)\n";
     return 3;
   }

@@ -22,6 +22,7 @@ struct MeshFlags {
   int threads = 0;
   double face_time_limit = 120.0;  // seconds per face in the 2D mesher; 0 = none
   bool allow_holes = false;
+  bool volume = false;  ///< --volume: tetrahedra in every closed solid (needs nglib)
   bool no_optimize3d = false;
   bool no_selfint = false;
   double min_feature = 0;        ///< --min-feature; 0: hmin

@@ -209,4 +209,37 @@ TopologyReport check_topology(const SurfaceMesh& m, const TopologyOptions& opt) 
   return r;
 }
 
+SolidSurface solid_surface(const SurfaceMesh& m, const geom::Model& model, geom::Id solid) {
+  SolidSurface st;
+  st.solid = solid;
+  st.closed = true;
+  std::vector<char> in(model.faces.size(), 0);
+  for (geom::Id sh : model.solids[static_cast<std::size_t>(solid)].shells) {
+    if (sh < 0 || static_cast<std::size_t>(sh) >= model.shells.size()) continue;
+    st.closed = st.closed && model.shells[static_cast<std::size_t>(sh)].closed;
+    for (geom::Id f : model.shells[static_cast<std::size_t>(sh)].faces)
+      if (f >= 0 && static_cast<std::size_t>(f) < in.size()) in[static_cast<std::size_t>(f)] = 1;
+  }
+  for (std::size_t f = 0; f < in.size(); ++f)
+    if (in[f]) st.faces.push_back(static_cast<geom::Id>(f));
+  std::map<std::pair<NodeId, NodeId>, int> count;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const geom::Id f = t < m.triangle_face.size() ? m.triangle_face[t] : geom::kNone;
+    if (f < 0 || static_cast<std::size_t>(f) >= in.size() || !in[static_cast<std::size_t>(f)])
+      continue;
+    st.triangles.push_back(static_cast<TriId>(t));
+    const auto& tri = m.triangles[t];
+    for (int i = 0; i < 3; ++i) {
+      const NodeId a = tri[static_cast<std::size_t>(i)],
+                   b = tri[static_cast<std::size_t>((i + 1) % 3)];
+      ++count[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  for (const auto& [k, c] : count) {
+    if (c == 1) ++st.free_edges;
+    if (c > 2) ++st.non_manifold_edges;
+  }
+  return st;
+}
+
 }  // namespace uvmesh::surface

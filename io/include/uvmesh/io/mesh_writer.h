@@ -53,6 +53,7 @@
 
 #include "uvmesh/geom/model.h"
 #include "uvmesh/surface/surface_mesh.h"
+#include "uvmesh/surface/tet_mesh.h"
 
 namespace uvmesh::io {
 
@@ -110,6 +111,19 @@ struct WriteOptions {
   int draco_level = 7;
   int draco_normal_bits = 10;
   GlbGroups glb_groups = GlbGroups::Solid;
+  /// Tetrahedra to write with the surface mesh (surface::fill_solids; its points start
+  /// with the surface mesh's, unchanged). Only .msh (4.1 and 2.2), .mesh and .vtu carry
+  /// them; any other format is then an error. Null: the surface mesh alone, byte for byte
+  /// what it is without this option.
+  ///   .msh 4.1: interior nodes in one block per volume entity (dim 3, tag solid id+1),
+  ///             4-node tetrahedra (type 4) in one block per volume; the solid's physical
+  ///             volume group as for the surface mesh.
+  ///   .msh 2.2: tetrahedra with physical = elementary = solid id+1 (the volume groups are
+  ///             then named in $PhysicalNames).
+  ///   .mesh:    Tetrahedra with reference solid id+1; interior vertices carry solid id+1.
+  ///   .vtu:     VTK_TETRA cells (type 10) after the triangles; cell data face_id (-1 on
+  ///             tetrahedra) and solid_id (-1 on triangles).
+  const surface::TetMesh* volume = nullptr;
 };
 
 struct WriteResult {

@@ -24,6 +24,7 @@
 #include "uvmesh/param/size_field.h"
 #include "uvmesh/surface/check3d.h"
 #include "uvmesh/surface/surface_mesh.h"
+#include "uvmesh/surface/tet_mesh.h"
 
 namespace uvmesh::io {
 
@@ -120,6 +121,12 @@ nlohmann::json report_json(const CheckData& d);
 /// same period as its first corner. Returns "" or why it could not (a face id the model
 /// does not have). Faces without a surface keep (0,0).
 std::string attach_uv(surface::SurfaceMesh& m, const geom::Model& model);
+
+/// The report's "volume" section for tetrahedra (surface::fill_solids): counts and the
+/// distribution of the minimum dihedral angle and of the radius-edge ratio
+/// (surface::measure_tet_quality, tet_mesh.h), in total and per solid ("solids": one entry
+/// per solid that has tetrahedra, in id order).
+nlohmann::json tet_report_json(const surface::TetMesh& v);
 
 /// An SVG bar chart of a histogram (self-contained, no scripts or external fonts).
 std::string histogram_svg(const Histogram& h, const std::string& title, const std::string& x_label);

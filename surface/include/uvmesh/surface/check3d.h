@@ -96,6 +96,26 @@ struct TopologyReport {
 
 TopologyReport check_topology(const SurfaceMesh& m, const TopologyOptions& opt = {});
 
+/// One solid's own surface: the triangles of the faces of its shells, checked on their
+/// own. In a conforming assembly an interface face bounds two solids and its edges are
+/// non-manifold in the whole mesh, yet every solid must be closed and manifold by itself
+/// (what a volume mesher filling it needs). The one definition of a "closed solid" used by
+/// the report (io::CheckData::solids) and the volume stage (volume.h).
+struct SolidSurface {
+  geom::Id solid = geom::kNone;
+  bool closed = false;                 ///< every shell of the solid is closed in the model
+  std::vector<geom::Id> faces;         ///< the faces of its shells, ascending
+  std::vector<TriId> triangles;        ///< the mesh's triangles on those faces, ascending
+  std::size_t free_edges = 0;          ///< edges used by one of those triangles
+  std::size_t non_manifold_edges = 0;  ///< edges used by three or more of them
+  /// Closed in the model and in the mesh: what a volume mesher can fill.
+  bool watertight() const {
+    return closed && !triangles.empty() && free_edges == 0 && non_manifold_edges == 0;
+  }
+};
+
+SolidSurface solid_surface(const SurfaceMesh& m, const geom::Model& model, geom::Id solid);
+
 // ---------------------------------------------------------------------------------------
 // 2. Self-intersections
 // ---------------------------------------------------------------------------------------
