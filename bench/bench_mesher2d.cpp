@@ -1093,9 +1093,9 @@ int main(int argc, char** argv) {
   };
   const std::vector<Aniso> aniso_sizes =
       quick ? std::vector<Aniso>{{"bl", 0.0005, 0.02, 2.2e4}, {"ring", 0.0005, 0.02, 1.8e4}}
-            : std::vector<Aniso>{{"bl", 0.0001, 0.01, 1.07e5},
-                                 {"ring", 0.0001, 0.01, 0.9e5},
-                                 {"bl", 0.00003, 0.003, 1.19e6},
+            : std::vector<Aniso>{{"bl", 0.002, 0.1, 900},  // steep: tangent size 0.1
+                                 {"ring", 0.002, 0.1, 800},      {"bl", 0.0001, 0.01, 1.07e5},
+                                 {"ring", 0.0001, 0.01, 0.9e5},  {"bl", 0.00003, 0.003, 1.19e6},
                                  {"ring", 0.00003, 0.003, 1.0e6}};
 
   std::vector<Row> rows;

@@ -32,6 +32,11 @@ constexpr double kApexShare = 1.0 / 64;
 // (Q 1.53-1.69 for apex angles of 15-30 degrees whatever the spacing).
 constexpr double kSpikeShare = 0.5;
 constexpr double kAcrossDeg = 45;
+// A feature at least this share of the field's size away is left to the unit mesh (its
+// edges are within [1/sqrt2, sqrt2] of the size anyway): the cap does not apply there, so
+// that a boundary split a little finer than the size (the corner of a square split at
+// 1 / ceil(1 / h)) does not turn a uniform size into a scalar field.
+constexpr double kBindShare = 0.75;
 constexpr double kDeg = 3.14159265358979323846 / 180;
 // The cap grows at this ratio when Options::boundary_gradation sets none (the ratio
 // Gmsh and bamg users get for a graded size by default is between 1.2 and 1.5).
@@ -71,11 +76,12 @@ class SegmentGrid {
     stamp_.assign(segs_.size(), 0);
   }
 
-  // Distance from p (on segment own) to the nearest other feature, +inf when none.
-  double feature_distance(Vec2 p, std::int32_t own) {
+  // Distance from p (on segment own) to the nearest other feature when it is under limit
+  // (the search stops there), else limit.
+  double feature_distance(Vec2 p, std::int32_t own, double limit) {
     ++epoch_;
     const int cx = cell_x(p.x), cy = cell_y(p.y);
-    double best = std::numeric_limits<double>::infinity();
+    double best = limit;
     for (int k = 0; k <= std::max(nx_, ny_); ++k) {
       if ((k - 1) * cs_ >= best) break;
       for (int j = cy - k; j <= cy + k; ++j) {
@@ -226,11 +232,13 @@ class GradedCap {
   double slope_;
 };
 
-// Samples of the feature distance along every segment: its ends, and midpoints while a
-// piece is longer than half the smaller distance at its ends (the distance is
-// 1-Lipschitz along a segment, so the graded cap between samples stays within a small
-// factor of it). Distances above hmax do not bind and are not refined.
-std::vector<Sample> boundary_samples(SegmentGrid& grid, double hmax) {
+// Samples of the feature distance along every segment where it binds: its ends, and
+// midpoints while a piece is longer than half the smaller distance (or limit) at its ends
+// (the distance is 1-Lipschitz along a segment, so the graded cap between samples stays
+// within a small factor of it). limit(p): the distance from which a feature is left to
+// the unit mesh at p (kBindShare of the field's largest size there).
+template <class Limit>
+std::vector<Sample> boundary_samples(SegmentGrid& grid, Limit&& limit) {
   std::vector<Sample> out;
   struct Piece {
     double t0, d0, t1, d1;
@@ -241,28 +249,24 @@ std::vector<Sample> boundary_samples(SegmentGrid& grid, double hmax) {
   for (std::size_t i = 0; i < segs.size(); ++i) {
     const Seg& s = segs[i];
     const auto id = static_cast<std::int32_t>(i);
-    auto at = [&](double t) {
-      return Vec2{s.pa.x + t * (s.pb.x - s.pa.x), s.pa.y + t * (s.pb.y - s.pa.y)};
+    auto sample = [&](double t) {
+      const Vec2 p{s.pa.x + t * (s.pb.x - s.pa.x), s.pa.y + t * (s.pb.y - s.pa.y)};
+      const double lim = limit(p), d = grid.feature_distance(p, id, lim);
+      if (d < lim) out.push_back({p, d});
+      return d;  // at most lim
     };
     const double len = std::hypot(s.pb.x - s.pa.x, s.pb.y - s.pa.y);
-    const double d0 = grid.feature_distance(s.pa, id), d1 = grid.feature_distance(s.pb, id);
-    out.push_back({s.pa, d0});
-    out.push_back({s.pb, d1});
-    work.assign(1, {0, d0, 1, d1, 0});
+    work.assign(1, {0, sample(0), 1, sample(1), 0});
     while (!work.empty()) {
       const Piece w = work.back();
       work.pop_back();
       const double dm = std::min(w.d0, w.d1);
-      if (w.depth >= 24 || dm >= hmax || (w.t1 - w.t0) * len <= 0.5 * dm) continue;
-      const double tm = 0.5 * (w.t0 + w.t1);
-      const Vec2 pm = at(tm);
-      const double d = grid.feature_distance(pm, id);
-      out.push_back({pm, d});
+      if (w.depth >= 24 || !((w.t1 - w.t0) * len > 0.5 * dm)) continue;
+      const double tm = 0.5 * (w.t0 + w.t1), d = sample(tm);
       work.push_back({tm, d, w.t1, w.d1, w.depth + 1});
       work.push_back({w.t0, w.d0, tm, d, w.depth + 1});
     }
   }
-  std::erase_if(out, [hmax](const Sample& s) { return !(s.d < hmax); });
   return out;
 }
 
@@ -295,9 +299,15 @@ void apply_feature_size(MeshState& ms) {
   if (segs.size() < 2) return;
   const bool uniform = ms.size.kind == SizeSpec::Kind::Uniform;
   SegmentGrid grid(std::move(segs));
-  std::vector<Sample> samples =
-      boundary_samples(grid, uniform ? ms.h_uniform : std::numeric_limits<double>::infinity());
-  if (samples.empty()) return;  // a uniform size the features never bind
+  std::vector<Sample> samples = boundary_samples(grid, [&](Vec2 p) {
+    // The field's largest size at p: 1 / sqrt of the metric's smaller eigenvalue.
+    const Metric2 m = ms.metric(p.x, p.y);
+    const double tr = m.m11 + m.m22, det = m.m11 * m.m22 - m.m12 * m.m12;
+    const double l2 = tr / 2 - std::sqrt(std::max(0.0, tr * tr / 4 - det));
+    const double lim = kBindShare / std::sqrt(l2);
+    return lim > 0 ? lim : std::numeric_limits<double>::infinity();
+  });
+  if (samples.empty() || ms.field_error) return;  // the features never bind: the same mesh
   const double g = ms.opt.boundary_gradation > 1 ? ms.opt.boundary_gradation : kDefaultGradation;
   auto cap = std::make_shared<const GradedCap>(std::move(samples), g - 1);
   SizeSpec& f = ms.field;
