@@ -176,8 +176,10 @@ class GradedCap {
     build(0, static_cast<std::int32_t>(s_.size()), 0);
   }
 
-  double operator()(double x, double y) const {
-    double best = std::numeric_limits<double>::infinity();
+  // The cap at (x, y) when it is under bound (the field's size there: a larger cap does
+  // not bind, and the bound prunes the search to the samples within reach), else bound.
+  double operator()(double x, double y, double bound) const {
+    double best = bound;
     std::int32_t stack[128];
     int top = 0;
     stack[top++] = 0;
@@ -270,6 +272,14 @@ std::vector<Sample> boundary_samples(SegmentGrid& grid, Limit&& limit) {
   return out;
 }
 
+// The largest size of metric m: 1 / sqrt of its smaller eigenvalue (+inf when m is not
+// positive definite: no bound).
+double largest_size(const Metric2& m) {
+  const double tr = m.m11 + m.m22, det = m.m11 * m.m22 - m.m12 * m.m12;
+  const double l2 = tr / 2 - std::sqrt(std::max(0.0, tr * tr / 4 - det));
+  return l2 > 0 && std::isfinite(tr) ? 1 / std::sqrt(l2) : std::numeric_limits<double>::infinity();
+}
+
 // M intersected with the isotropic metric of size h (eigenvalues raised to 1 / h^2,
 // eigenvectors kept): the largest metric whose unit ball lies in both unit balls.
 Metric2 cap_size(const Metric2& m, double h) {
@@ -299,30 +309,24 @@ void apply_feature_size(MeshState& ms) {
   if (segs.size() < 2) return;
   const bool uniform = ms.size.kind == SizeSpec::Kind::Uniform;
   SegmentGrid grid(std::move(segs));
-  std::vector<Sample> samples = boundary_samples(grid, [&](Vec2 p) {
-    // The field's largest size at p: 1 / sqrt of the metric's smaller eigenvalue.
-    const Metric2 m = ms.metric(p.x, p.y);
-    const double tr = m.m11 + m.m22, det = m.m11 * m.m22 - m.m12 * m.m12;
-    const double l2 = tr / 2 - std::sqrt(std::max(0.0, tr * tr / 4 - det));
-    const double lim = kBindShare / std::sqrt(l2);
-    return lim > 0 ? lim : std::numeric_limits<double>::infinity();
-  });
+  std::vector<Sample> samples = boundary_samples(
+      grid, [&](Vec2 p) { return kBindShare * largest_size(ms.metric(p.x, p.y)); });
   if (samples.empty() || ms.field_error) return;  // the features never bind: the same mesh
   const double g = ms.opt.boundary_gradation > 1 ? ms.opt.boundary_gradation : kDefaultGradation;
   auto cap = std::make_shared<const GradedCap>(std::move(samples), g - 1);
   SizeSpec& f = ms.field;
   if (uniform) {
     f.kind = SizeSpec::Kind::Scalar;
-    f.size = [cap, h = ms.h_uniform](double x, double y) { return std::min(h, (*cap)(x, y)); };
+    f.size = [cap, h = ms.h_uniform](double x, double y) { return (*cap)(x, y, h); };
   } else if (f.kind == SizeSpec::Kind::Scalar) {
     f.size = [cap, field = f.size](double x, double y) {
       const double h = field(x, y);
-      return h > 0 ? std::min(h, (*cap)(x, y)) : h;  // invalid values reach the check
+      return h > 0 ? (*cap)(x, y, h) : h;  // invalid values reach the check
     };
   } else {
     f.metric = [cap, field = f.metric](double x, double y) {
-      const double h = (*cap)(x, y);
       const Metric2 m = field(x, y);
+      const double h = (*cap)(x, y, largest_size(m));
       return std::isfinite(h) ? cap_size(m, h) : m;
     };
   }
