@@ -121,7 +121,8 @@ struct SizeSpec {
 // but with a uniform size the lattice that saturation starts from is already equilateral
 // (the same median and Q_M under 1.2 in both modes) and builds it in about half the time
 // of the front waves; on a fine anisotropic ring frontal's metric Q_M is slightly higher
-// and it is slower. The surface stage keeps the default.
+// and it is slower, and on a steep ring (its tangent size a good fraction of its radius)
+// neither mode is ahead on the unit share. The surface stage keeps the default.
 enum class FieldPointMethod { Saturation, Frontal };
 
 struct Options {
