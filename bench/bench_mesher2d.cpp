@@ -2,7 +2,7 @@
 // printed as ONE side-by-side Markdown table (time, rate, quality and memory together).
 // Not a test; bench/run.sh configures, builds, runs it and writes bench/results.md.
 //
-//   bench_mesher2d [--quick] [--reps N] [--only dt|iso|aniso] [--out FILE] [--work DIR]
+//   bench_mesher2d [--quick] [--reps N] [--only dt|iso|aniso|lfs] [--out FILE] [--work DIR]
 //                  [--no-gmsh] [--no-bamg] [--no-cgal] [--keep] [--max-size N]
 //                  (--help explains)
 //
@@ -78,6 +78,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "../tests/mesher2d/feature_domains.h"
 
 namespace {
 
@@ -356,12 +358,14 @@ m2d::FieldPointMethod method_from(const std::string& name) {
 }
 
 // Times one call of our mesher on (in, size) and prints its measures (child process).
-int run_ours(const m2d::Pslg& in, const m2d::SizeSpec& size, m2d::FieldPointMethod method) {
+int run_ours(const m2d::Pslg& in, const m2d::SizeSpec& size, m2d::FieldPointMethod method,
+             bool feature_size = false) {
   // Stats::quality off: the quality of every mesh, ours and the references', is measured
   // below by the same m2d::measure outside the timed region.
   m2d::Options opt;
   opt.measure = false;
   opt.field_points = method;
+  opt.feature_size = feature_size;
   const double w0 = wall_now(), c0 = cpu_now();
   m2d::Result r = m2d::mesh(in, size, opt);
   const double w1 = wall_now(), c1 = cpu_now();
@@ -439,6 +443,26 @@ int child_aniso_ours(const std::string& field, double h0, double hmax, const std
   return run_ours(unit_square(), aniso_field(field, h0, hmax), method_from(method));
 }
 
+// The domains narrower than their size (tests/mesher2d/feature_domains.h) and the size.
+struct LfsDomain {
+  const char* name;
+  m2d::Pslg in;
+  double h;
+};
+std::vector<LfsDomain> lfs_domains() {
+  return {{"thin star (10 spikes 0.19 wide at the base, 14.8° tips)",
+           feature_domains::thin_star(10, 1, 0.3), 0.3},
+          {"unit square with 3 slots 0.02 wide", feature_domains::slotted_square(0.02), 0.1},
+          {"comb of 8 teeth 0.03 wide", feature_domains::comb(8, 0.03), 0.1}};
+}
+
+int child_lfs_ours(int domain, const std::string& method, bool on) {
+  const auto ds = lfs_domains();
+  if (domain < 0 || domain >= static_cast<int>(ds.size())) return 2;
+  const LfsDomain& d = ds[static_cast<std::size_t>(domain)];
+  return run_ours(d.in, m2d::SizeSpec::uniform(d.h), method_from(method), on);
+}
+
 int run_child(int argc, char** argv) {
   // argv: --child KIND ARGS...
   const std::string kind = argc > 2 ? argv[2] : "";
@@ -448,6 +472,7 @@ int run_child(int argc, char** argv) {
   const auto arg = [&](int i) { return std::string(i < argc ? argv[i] : ""); };
   if (kind == "iso-ours") return child_iso_ours(num(3), arg(4));
   if (kind == "iso-cgal") return child_iso_cgal(num(3), num(4));
+  if (kind == "lfs-ours") return child_lfs_ours(static_cast<int>(num(3)), arg(4), arg(5) == "on");
   if (kind == "aniso-ours" && argc > 5) return child_aniso_ours(argv[3], num(4), num(5), arg(6));
   std::fprintf(stderr, "bench_mesher2d: unknown child '%s'\n", kind.c_str());
   return 2;
@@ -987,7 +1012,8 @@ std::string machine_line() {
 int usage(int code) {
   std::fprintf(
       code ? stderr : stdout,
-      "usage: bench_mesher2d [--quick] [--reps N] [--only dt|iso|aniso] [--out FILE] [--work DIR]\n"
+      "usage: bench_mesher2d [--quick] [--reps N] [--only dt|iso|aniso|lfs] [--out FILE]\n"
+      "                      [--work DIR]\n"
       "                      [--no-gmsh] [--no-bamg] [--no-cgal] [--keep] [--max-size N]\n"
       "  --quick   small sizes only (smoke run); default: the full sizes of issue 2\n"
       "  --reps N  repetitions per case, ours and references alternating (default 2, quick 1)\n"
@@ -1067,9 +1093,9 @@ int main(int argc, char** argv) {
   };
   const std::vector<Aniso> aniso_sizes =
       quick ? std::vector<Aniso>{{"bl", 0.0005, 0.02, 2.2e4}, {"ring", 0.0005, 0.02, 1.8e4}}
-            : std::vector<Aniso>{{"bl", 0.0001, 0.01, 1.07e5},
-                                 {"ring", 0.0001, 0.01, 0.9e5},
-                                 {"bl", 0.00003, 0.003, 1.19e6},
+            : std::vector<Aniso>{{"bl", 0.002, 0.1, 900},  // steep: tangent size 0.1
+                                 {"ring", 0.002, 0.1, 800},      {"bl", 0.0001, 0.01, 1.07e5},
+                                 {"ring", 0.0001, 0.01, 0.9e5},  {"bl", 0.00003, 0.003, 1.19e6},
                                  {"ring", 0.00003, 0.003, 1.0e6}};
 
   std::vector<Row> rows;
@@ -1210,6 +1236,31 @@ int main(int argc, char** argv) {
         fns.push_back(blocked("BLOCKED: ffbamg not found in PATH (or --no-bamg)"));
       run_case(rs, fns, n);
       if (!keep) remove_bamg_files(work, f, h0, hmax);
+    }
+  }
+
+  if (only.empty() || only == "lfs") {
+    // Options::feature_size off and on, in both field-point modes (uvmesh2d's default is on).
+    const auto ds = lfs_domains();
+    for (std::size_t k = 0; k < ds.size(); ++k) {
+      ++group;
+      const std::string b = std::string(ds[k].name) + ", uniform h=" + fmt("%g", ds[k].h);
+      std::vector<Row> rs;
+      std::vector<std::function<Measure()>> fns;
+      for (const char* method : {"saturation", "frontal"})
+        for (const char* on : {"off", "on"}) {
+          rs.push_back({b,
+                        std::string("**ours** (") + method + ", feature size " + on + ")",
+                        {},
+                        rs.empty(),
+                        group,
+                        false,
+                        false,
+                        0});
+          const std::string dom = std::to_string(k), m = method, o = on;
+          fns.push_back([dom, m, o] { return run_self({"lfs-ours", dom, m, o}); });
+        }
+      run_case(rs, fns, 1e3);
     }
   }
 

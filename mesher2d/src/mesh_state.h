@@ -55,9 +55,12 @@ struct SegRec {
 struct MeshState {
   using Clock = std::chrono::steady_clock;
   MeshState(const Pslg& in_, const SizeSpec& size_, const Options& opt_, Result& res_)
-      : in(in_), size(size_), opt(opt_), res(res_) {}
+      : in(in_), field(size_), size(field), opt(opt_), res(res_) {}
 
   const Pslg& in;
+  // The size specification in effect: the caller's, capped by the local feature size
+  // (feature_size.cpp, Options::feature_size). Stages read it through size.
+  SizeSpec field;
   const SizeSpec& size;
   const Options& opt;
   Result& res;
@@ -156,6 +159,11 @@ bool enforce_boundary(MeshState& ms);
 // Enforces the records in work (a stack); split_crossings splits crossing segments even
 // when Options::split_crossing_segments is off (the boundary split's rounded points).
 bool enforce_segments(MeshState& ms, std::vector<std::int32_t>& work, bool split_crossings);
+
+// feature_size.cpp: Options::feature_size: the size field capped by the local feature size
+// of the enforced segments, graded into the domain (a uniform size may become a scalar
+// field; it stays uniform where the features never bind).
+void apply_feature_size(MeshState& ms);
 
 // boundary_split.cpp: the enforced segments split at unit metric length (eq. 7.10).
 bool split_boundary(MeshState& ms);

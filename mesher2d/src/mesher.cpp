@@ -124,6 +124,10 @@ void run(MeshState& ms) {
   if (!detail::enforce_boundary(ms)) return;
   stage("boundary enforcement");
   const bool refine = ms.opt.refine && ms.refine_ok;
+  if (refine && ms.opt.feature_size) {
+    detail::apply_feature_size(ms);
+    stage("feature size");
+  }
   if (refine && ms.opt.split_segments) {
     // Curves first: split the enforced segments (input segments already split at the
     // input vertices lying on them, and at crossings) at unit metric length.

@@ -81,7 +81,7 @@ int run(int argc, char** argv) {
   std::vector<std::string> metric_files;
   std::string metric_fn;
   bool no_refine = false, split_crossing = false, no_optimize = false, quiet = false, json = false,
-       check = false, frontal = false;
+       check = false, frontal = false, no_feature_size = false;
   std::int64_t max_vertices = 0;
 
   app.add_option("input", input, "Domain: Triangle .poly file")->required();
@@ -105,6 +105,9 @@ int run(int argc, char** argv) {
   app.add_flag("--frontal", frontal,
                "Frontal field points (advancing-front-Delaunay, section 7.4.3) instead of edge "
                "saturation");
+  app.add_flag("--no-feature-size", no_feature_size,
+               "Do not cap the size by the local feature size (by default a slot or spike "
+               "narrower than the size gets triangles as wide as it is)");
   app.add_flag("--check", check, "Run the mesh checker; a failed check exits with status 3");
   app.add_option("--max-vertices", max_vertices,
                  "Stop refining beyond N vertices (mesh Incomplete)");
@@ -185,6 +188,10 @@ int run(int argc, char** argv) {
   opt.refine = !no_refine;
   opt.optimize = !no_optimize;
   if (frontal) opt.field_points = m2d::FieldPointMethod::Frontal;
+  // On by default, as Triangle's quality refinement follows the local feature size
+  // without being asked: a requested size is an upper bound, and a domain narrower than
+  // it is meshed with well shaped triangles rather than needles across it.
+  opt.feature_size = !no_feature_size;
   opt.split_crossing_segments = split_crossing;
   if (max_vertices > 0) opt.max_vertices = max_vertices;
   c2::RegionSize rs = c2::apply_region_max_area(pd, spec, opt);

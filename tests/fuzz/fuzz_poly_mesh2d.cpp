@@ -56,10 +56,10 @@ void print_poly(const m2d::Pslg& p, std::FILE* out) {
   std::fprintf(stderr, "fuzz_poly_mesh2d: %s: %s\n", what, detail.c_str());
   std::fprintf(
       stderr,
-      "fuzz_poly_mesh2d: uniform size %g, split_crossing_segments %d, optimize %d, frontal %d; "
-      "the PSLG:\n",
+      "fuzz_poly_mesh2d: uniform size %g, split_crossing_segments %d, optimize %d, frontal %d, "
+      "feature_size %d; the PSLG:\n",
       h, opt.split_crossing_segments ? 1 : 0, opt.optimize ? 1 : 0,
-      opt.field_points == m2d::FieldPointMethod::Frontal ? 1 : 0);
+      opt.field_points == m2d::FieldPointMethod::Frontal ? 1 : 0, opt.feature_size ? 1 : 0);
   print_poly(p, stderr);
   std::abort();
 }
@@ -127,6 +127,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // Both field-point methods (saturation, frontal), by the next bit of the length.
   opt.field_points =
       (size / 16) % 2 == 0 ? m2d::FieldPointMethod::Saturation : m2d::FieldPointMethod::Frontal;
+  // The local feature size cap (uvmesh2d's default) by the next.
+  opt.feature_size = (size / 32) % 2 == 1;
   const m2d::Result res = m2d::mesh(p, size_spec, opt);
   if (res.status.code == m2d::StatusCode::InternalError)
     finding("InternalError", res.status.message, p, h, opt);

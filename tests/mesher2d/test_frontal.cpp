@@ -61,16 +61,6 @@ double median_q(const Mesh& m, const SizeSpec& s) {
   return q[q.size() / 2];
 }
 
-Result mesh_valid(const Pslg& in, const SizeSpec& s, const Options& o) {
-  Result r = mesh(in, s, o);
-  INFO("status: " << r.status.message);
-  REQUIRE(r.ok());
-  const CheckReport rep = check(r.mesh, in, {.delaunay = false});
-  INFO((rep.ok() ? std::string() : rep.errors.front()));
-  REQUIRE(rep.ok());
-  return r;
-}
-
 Options frontal() {
   return method_options(FieldPointMethod::Frontal);
 }
@@ -126,13 +116,7 @@ TEST_CASE("frontal: two runs give the same mesh, bit for bit", "[frontal][determ
   const Pslg in = bench_square_with_hole(0.02);
   for (const SizeSpec& s : specs) {
     const Result a = mesh_valid(in, s, frontal()), b = mesh_valid(in, s, frontal());
-    REQUIRE(a.mesh.vertices.size() == b.mesh.vertices.size());
-    REQUIRE(a.mesh.triangles == b.mesh.triangles);
-    bool same = true;
-    for (std::size_t v = 0; v < a.mesh.vertices.size(); ++v)
-      same = same && a.mesh.vertices[v].x == b.mesh.vertices[v].x &&
-             a.mesh.vertices[v].y == b.mesh.vertices[v].y;
-    CHECK(same);
+    require_same_mesh(a.mesh, b.mesh);
   }
 }
 

@@ -14,7 +14,8 @@
 //   2. boundary discretization               (segments split at unit metric length, eq. 7.10;
 //                                             off when Options::split_segments is false)
 //   3. Delaunay triangulation in a box       (§7.3.2, kernel T(i+1) = T(i) - C(P) + B(P))
-//   4. boundary enforcement by swaps         (§7.2.2)
+//   4. boundary enforcement by swaps         (§7.2.2); the size capped by the local
+//                                            feature size (Options::feature_size)
 //   5. domain coloring                       (§7.3.4): exterior and holes removed, regions
 //   6. field points (Options::field_points)  anisotropic kernel (§7.6.1) for a metric field.
 //                                            Saturation: edge saturation (§7.3.5, 7.5.2);
@@ -120,7 +121,8 @@ struct SizeSpec {
 // but with a uniform size the lattice that saturation starts from is already equilateral
 // (the same median and Q_M under 1.2 in both modes) and builds it in about half the time
 // of the front waves; on a fine anisotropic ring frontal's metric Q_M is slightly higher
-// and it is slower. The surface stage keeps the default.
+// and it is slower, and on a steep ring (its tangent size a good fraction of its radius)
+// neither mode is ahead on the unit share. The surface stage keeps the default.
 enum class FieldPointMethod { Saturation, Frontal };
 
 struct Options {
@@ -140,6 +142,17 @@ struct Options {
   // Segments with a negative marker impose nothing (e.g. the collapsed side of a pole,
   // short in the plane but not a size anyone asked for).
   double boundary_gradation = 0;
+  // Local feature size (the lfs of Ruppert's and Shewchuk's refinement): the size at a
+  // boundary point never exceeds its distance to the nearest boundary feature apart from
+  // it (a segment sharing no vertex with its own; across an angle under 30 degrees also
+  // the other side, down to 1/64 of the side from the apex, so that a thin spike gets
+  // triangles as wide as it is), and that cap grows into the domain at the
+  // boundary_gradation ratio (1.3 when it is off). A slot or a spike narrower than the
+  // requested size then gets a layer of triangles per width instead of needles across
+  // it. It only ever makes the size smaller; a uniform size the features never bind
+  // stays uniform (the same mesh as without it). Off by default: the surface stage
+  // has its own proximity rule; uvmesh2d turns it on.
+  bool feature_size = false;
   FieldPointMethod field_points = FieldPointMethod::Saturation;
   bool optimize = true;
   // Size optimization of a varying field (§7.5.2): edges longer than sqrt2 in the metric
@@ -186,7 +199,8 @@ struct Mesh {
   std::vector<VertId> input_vertex;              // input point i -> output vertex (kNone if
                                                  // it lies outside the domain)
   std::vector<Metric2> vertex_metric;            // the metric each vertex was placed for (the
-                                                 // field, scaled by Options::boundary_gradation);
+                                                 // field capped by Options::feature_size,
+                                                 // scaled by Options::boundary_gradation);
                                                  // empty when not refined
   // Per vertex (as vertex_metric): the factor s >= 1 by which Options::boundary_gradation
   // scaled the field's metric there, vertex_metric[v] = s * M(x_v) with M the field after
