@@ -28,11 +28,16 @@ std::string number(double v) {
   return s.str();
 }
 
-// A size given or left at 0 (the default); the message is CLI11's wording for the
-// command line's own validator (samples/uvmesh/read_flags.h finite_positive).
-std::string check_size(const char* flag, double v) {
-  if (v == 0 || (std::isfinite(v) && v > 0)) return "";
+// "" for a finite value > 0, else the command line's message for it (CLI11 running
+// samples/uvmesh/read_flags.h finite_positive).
+std::string check_positive(const char* flag, double v) {
+  if (std::isfinite(v) && v > 0) return "";
   return std::string(flag) + ": expected a finite number > 0, found '" + number(v) + "'";
+}
+
+// A size given, or left at 0 (the default).
+std::string check_size(const char* flag, double v) {
+  return v == 0 ? "" : check_positive(flag, v);
 }
 
 // 0 (the default) or a value in [lo, hi].
@@ -51,11 +56,8 @@ std::string check_local_sizes(const MeshJobOptions& o) {
 }
 
 std::string check_read(const ReadOptions& r) {
-  if (std::string e = check_size("--sew-tol", r.sew_rel_tol); !e.empty() || r.sew_rel_tol == 0)
-    return e.empty() ? "--sew-tol: expected a finite number > 0, found '0'" : e;
-  if (std::string e = check_size("--sew-max-tol", r.sew_max_rel_tol);
-      !e.empty() || r.sew_max_rel_tol == 0)
-    return e.empty() ? "--sew-max-tol: expected a finite number > 0, found '0'" : e;
+  if (std::string e = check_positive("--sew-tol", r.sew_rel_tol); !e.empty()) return e;
+  if (std::string e = check_positive("--sew-max-tol", r.sew_max_rel_tol); !e.empty()) return e;
   if (!r.units.empty() && canonical_length_unit(r.units).empty())
     return "--units: unknown length unit '" + r.units + "' (known: " + known_length_units() + ")";
   return "";

@@ -11,6 +11,7 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <cstddef>
 #include <functional>
 #include <map>
 #include <memory>
@@ -83,8 +84,7 @@ const std::map<std::string, Setter>& mesh_setters() {
       {"threads", [](auto& o, py::handle v) { o.threads = v.cast<int>(); }},
       {"face_time_limit", [](auto& o, py::handle v) { o.face_time_limit = v.cast<double>(); }},
       {"optimize3d", [](auto& o, py::handle v) { o.optimize3d = v.cast<bool>(); }},
-      {"self_intersections",
-       [](auto& o, py::handle v) { o.self_intersections = v.cast<bool>(); }},
+      {"self_intersections", [](auto& o, py::handle v) { o.self_intersections = v.cast<bool>(); }},
   };
   return s;
 }
@@ -100,8 +100,9 @@ void apply_options(io::MeshJobOptions& o, const py::dict& kw, bool reading, bool
     if (meshing && mesh_setters().count(key)) set = &mesh_setters().at(key);
     if (!set) {
       if (!reading && read_setters().count(key))
-        throw py::value_error(key + "= applies when reading a file: pass a path, or give it to "
-                                    "uvmesh.read()");
+        throw py::value_error(key +
+                              "= applies when reading a file: pass a path, or give it to "
+                              "uvmesh.read()");
       throw py::type_error("unexpected keyword argument '" + key + "'");
     }
     try {
@@ -124,7 +125,7 @@ struct Model {
 };
 
 // (Model or None, error): the Python side raises CadReadError with the error.
-py::tuple read(const std::string& path, const py::dict& kw) {
+py::tuple read_path(const std::string& path, const py::dict& kw) {
   io::MeshJobOptions o;
   apply_options(o, kw, true, false);
   auto rr = std::make_shared<io::ReadResult>();
@@ -152,9 +153,9 @@ py::list edge_list(const geom::Model& m) {
   for (std::size_t i = 0; i < m.edges.size(); ++i) {
     const geom::Edge& e = m.edges[i];
     const std::string kind = e.curve ? std::string(geom::to_string(e.curve->kind())) : "none";
-    l.append(py::dict(py::arg("id") = i, py::arg("kind") = kind, py::arg("vertices") =
-                      py::make_tuple(e.v0, e.v1), py::arg("length") = e.length,
-                      py::arg("degenerate") = e.degenerate));
+    l.append(py::dict(py::arg("id") = i, py::arg("kind") = kind,
+                      py::arg("vertices") = py::make_tuple(e.v0, e.v1),
+                      py::arg("length") = e.length, py::arg("degenerate") = e.degenerate));
   }
   return l;
 }
@@ -165,8 +166,8 @@ py::list solid_list(const geom::Model& m) {
     std::vector<geom::Id> faces;
     for (geom::Id s : m.solids[i].shells)
       faces.insert(faces.end(), m.shells[s].faces.begin(), m.shells[s].faces.end());
-    l.append(py::dict(py::arg("id") = i, py::arg("name") = m.solids[i].name,
-                      py::arg("faces") = faces));
+    l.append(
+        py::dict(py::arg("id") = i, py::arg("name") = m.solids[i].name, py::arg("faces") = faces));
   }
   return l;
 }
@@ -242,7 +243,8 @@ struct Progress {
   }
 };
 
-std::unique_ptr<Mesh> mesh(const Model& model, const py::dict& kw, const py::object& progress) {
+std::unique_ptr<Mesh> mesh_model(const Model& model, const py::dict& kw,
+                                 const py::object& progress) {
   auto out = std::make_unique<Mesh>();
   io::MeshJobOptions& o = out->options;
   apply_options(o, kw, false, true);
@@ -268,8 +270,8 @@ std::unique_ptr<Mesh> mesh(const Model& model, const py::dict& kw, const py::obj
 template <class T>
 py::array view(const void* first, std::size_t n, std::size_t cols, std::size_t stride,
                py::handle owner) {
-  std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(n)}, strides{
-                                                                   static_cast<py::ssize_t>(stride)};
+  std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(n)},
+      strides{static_cast<py::ssize_t>(stride)};
   if (cols > 1) shape.push_back(static_cast<py::ssize_t>(cols)), strides.push_back(sizeof(T));
   // An empty vector may have no storage; numpy still wants a pointer to view.
   static const T none[3] = {};
@@ -300,18 +302,18 @@ const std::string& report_of(Mesh& s) {
 
 // Writes the mesh; ValueError for a bad format or encoding, OSError when the file cannot
 // be written (the writers' message).
-void write(Mesh& s, const std::string& path, const std::optional<std::string>& format,
-           bool ascii, bool binary, std::optional<bool> physical_groups,
-           std::optional<int> draco_bits, std::optional<int> draco_level, bool glb_per_face) {
+void write(Mesh& s, const std::string& path, const std::optional<std::string>& format, bool ascii,
+           bool binary, std::optional<bool> physical_groups, std::optional<int> draco_bits,
+           std::optional<int> draco_level, bool glb_per_face) {
   io::WriteOptions wo;
   if (format) {
     wo.format = io::format_from_name(*format);
     if (!wo.format)
-      throw py::value_error("unknown format '" + *format +
-                            "' (known: " + io::known_format_names() + ")");
+      throw py::value_error("unknown format '" + *format + "' (known: " + io::known_format_names() +
+                            ")");
   } else if (!io::format_from_path(path)) {
-    throw py::value_error(path + ": unknown mesh extension (known: " +
-                          io::known_mesh_extensions() + ")");
+    throw py::value_error(path + ": unknown mesh extension (known: " + io::known_mesh_extensions() +
+                          ")");
   }
   if (ascii && binary) throw py::value_error("ascii and binary exclude each other");
   wo.encoding = ascii ? io::Encoding::Ascii : binary ? io::Encoding::Binary : io::Encoding::Default;
@@ -353,37 +355,35 @@ void bind_mesh(py::module_& m) {
                                const auto& t = self.cast<const Mesh&>().run.result.mesh.triangles;
                                return view<std::int32_t>(t.data(), t.size(), 3, sizeof(t[0]), self);
                              })
-      .def_property_readonly(
-          "face_ids",
-          [](py::object self) {
-            const auto& f = self.cast<const Mesh&>().run.result.mesh.triangle_face;
-            return view<std::int32_t>(f.data(), f.size(), 1, sizeof(f[0]), self);
-          })
+      .def_property_readonly("face_ids",
+                             [](py::object self) {
+                               const auto& f =
+                                   self.cast<const Mesh&>().run.result.mesh.triangle_face;
+                               return view<std::int32_t>(f.data(), f.size(), 1, sizeof(f[0]), self);
+                             })
       .def_property_readonly("edges",
                              [](py::object self) {
                                const auto& s = self.cast<const Mesh&>().run.result.mesh.segments;
                                return view<std::int32_t>(s.data(), s.size(), 2, sizeof(Segment),
                                                          self);
                              })
-      .def_property_readonly(
-          "edge_curve_ids",
-          [](py::object self) {
-            const auto& s = self.cast<const Mesh&>().run.result.mesh.segments;
-            return view<std::int32_t>(s.empty() ? nullptr : &s[0].edge, s.size(), 1,
-                                      sizeof(Segment), self);
-          })
-      .def_property_readonly(
-          "point_dims",
-          [](py::object self) {
-            const auto& d = self.cast<const Mesh&>().run.result.mesh.point_dim;
-            return view<std::int8_t>(d.data(), d.size(), 1, sizeof(d[0]), self);
-          })
-      .def_property_readonly(
-          "point_entities",
-          [](py::object self) {
-            const auto& e = self.cast<const Mesh&>().run.result.mesh.point_entity;
-            return view<std::int32_t>(e.data(), e.size(), 1, sizeof(e[0]), self);
-          })
+      .def_property_readonly("edge_curve_ids",
+                             [](py::object self) {
+                               const auto& s = self.cast<const Mesh&>().run.result.mesh.segments;
+                               return view<std::int32_t>(s.empty() ? nullptr : &s[0].edge, s.size(),
+                                                         1, sizeof(Segment), self);
+                             })
+      .def_property_readonly("point_dims",
+                             [](py::object self) {
+                               const auto& d = self.cast<const Mesh&>().run.result.mesh.point_dim;
+                               return view<std::int8_t>(d.data(), d.size(), 1, sizeof(d[0]), self);
+                             })
+      .def_property_readonly("point_entities",
+                             [](py::object self) {
+                               const auto& e =
+                                   self.cast<const Mesh&>().run.result.mesh.point_entity;
+                               return view<std::int32_t>(e.data(), e.size(), 1, sizeof(e[0]), self);
+                             })
       .def_property_readonly("_report_json", [](Mesh& s) { return report_of(s); })
       .def_property_readonly("failed_faces",
                              [](const Mesh& s) { return failures(s.run.result.failed); })
@@ -392,9 +392,10 @@ void bind_mesh(py::module_& m) {
       .def_property_readonly("collapsed_faces",
                              [](const Mesh& s) { return failures(s.run.result.collapsed); })
       .def_property_readonly("warnings", [](const Mesh& s) { return s.run.result.warnings; })
-      .def_property_readonly("model", [](const Mesh& s) {
-        return Model{s.rr, s.model_path, s.read_seconds};
-      })
+      .def_property_readonly("model",
+                             [](const Mesh& s) {
+                               return Model{s.rr, s.model_path, s.read_seconds};
+                             })
       .def("write", &write, py::arg("path"), py::kw_only(), py::arg("format") = py::none(),
            py::arg("ascii") = false, py::arg("binary") = false,
            py::arg("physical_groups") = py::none(), py::arg("draco_bits") = py::none(),
@@ -413,8 +414,8 @@ PYBIND11_MODULE(_uvmesh, m) {
   m.doc() = "uvmesh's compiled core; use the `uvmesh` package.";
   bind_model(m);
   bind_mesh(m);
-  m.def("_read", &read, py::arg("path"), py::arg("options"));
-  m.def("_mesh", &mesh, py::arg("model"), py::arg("options"), py::arg("progress"));
+  m.def("_read", &read_path, py::arg("path"), py::arg("options"));
+  m.def("_mesh", &mesh_model, py::arg("model"), py::arg("options"), py::arg("progress"));
   m.def("_read_keywords", [] {
     std::vector<std::string> k;
     for (const auto& [key, set] : read_setters()) k.push_back(key);
