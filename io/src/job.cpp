@@ -50,8 +50,11 @@ std::string check_range(const char* flag, double v, double lo, double hi, bool z
 std::string check_local_sizes(const MeshJobOptions& o) {
   for (const auto* list : {&o.face_size, &o.edge_size})
     for (const auto& [id, h] : *list)
-      if (id < 0 || !(h > 0) || !std::isfinite(h))
-        return "'" + std::to_string(id) + "=" + number(h) + "': expected ID=SIZE";
+      if (id < 0 || !(h > 0) || !std::isfinite(h)) {
+        std::ostringstream m;  // not string concatenation: GCC 12 warns (-Wrestrict) on it
+        m << "'" << id << "=" << h << "': expected ID=SIZE";
+        return m.str();
+      }
   return "";
 }
 

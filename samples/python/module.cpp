@@ -9,9 +9,11 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <chrono>
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
@@ -302,9 +304,10 @@ const std::string& report_of(Mesh& s) {
 
 // Writes the mesh; ValueError for a bad format or encoding, OSError when the file cannot
 // be written (the writers' message).
-void write(Mesh& s, const std::string& path, const std::optional<std::string>& format, bool ascii,
-           bool binary, std::optional<bool> physical_groups, std::optional<int> draco_bits,
-           std::optional<int> draco_level, bool glb_per_face) {
+void write(Mesh& s, const std::filesystem::path& file, const std::optional<std::string>& format,
+           bool ascii, bool binary, std::optional<bool> physical_groups,
+           std::optional<int> draco_bits, std::optional<int> draco_level, bool glb_per_face) {
+  const std::string path = file.string();
   io::WriteOptions wo;
   if (format) {
     wo.format = io::format_from_name(*format);

@@ -18,7 +18,7 @@ def test_read_counts(uvmesh, bracket):
     assert len(bracket.faces) == 26 and len(bracket.edges) == bracket.counts["edges"]
     assert bracket.units == "mm" and bracket.format == "step"
     kinds = {f["kind"] for f in bracket.faces}
-    assert "plane" in kinds and "cylinder" in kinds
+    assert "planar" in kinds and "cylinder" in kinds
     assert [f["id"] for f in bracket.faces] == list(range(26))
     assert sorted(bracket.solids[0]["faces"]) == list(range(26))
     assert isinstance(bracket.warnings, list)
@@ -52,9 +52,10 @@ def test_arrays_without_copies(uvmesh, bracket):
     m = uvmesh.mesh(bracket, threads=1)
     for a in (m.points, m.triangles, m.face_ids, m.edges, m.edge_curve_ids):
         assert a.base is not None and not a.flags.owndata and not a.flags.writeable
-    # Two views of one vector share its memory; the views keep the mesh alive.
-    assert np.shares_memory(m.points, m.points)
-    assert np.shares_memory(m.edges, m.edge_curve_ids)
+    # edges and edge_curve_ids are interleaved views of one vector of segments; the views
+    # keep the mesh alive.
+    assert np.may_share_memory(m.edges, m.edge_curve_ids)
+    assert m.edges.strides == (12, 4) and m.edge_curve_ids.strides == (12,)
     pts = m.points
     expected = pts.copy()
     del m
