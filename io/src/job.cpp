@@ -28,23 +28,32 @@ std::string number(double v) {
   return s.str();
 }
 
-// "" for a finite value > 0, else the command line's message for it (CLI11 running
-// samples/uvmesh/read_flags.h finite_positive).
-std::string check_positive(const char* flag, double v) {
-  if (std::isfinite(v) && v > 0) return "";
-  return std::string(flag) + ": expected a finite number > 0, found '" + number(v) + "'";
-}
+// The bounds of every numeric option, by flag; the CLI's validators (through
+// check_option_value) and check_options both read this table.
+struct Bounds {
+  const char* flag;
+  double lo, hi;
+  bool positive;  ///< finite and > lo (= 0); else in [lo, hi]
+};
+constexpr Bounds kBounds[] = {{"--hmax", 0, HUGE_VAL, true},
+                              {"--hmax-rel", 0, HUGE_VAL, true},
+                              {"--hmin", 0, HUGE_VAL, true},
+                              {"--chordal", 0, HUGE_VAL, true},
+                              {"--min-feature", 0, HUGE_VAL, true},
+                              {"--sew-tol", 0, HUGE_VAL, true},
+                              {"--sew-max-tol", 0, HUGE_VAL, true},
+                              {"--angle", 0.1, 180.0, false},
+                              {"--feature-angle", 0.0, 180.0, false},
+                              {"--grad", 1.0, 100.0, false},
+                              {"--aniso", 1.0, 1e4, false},
+                              {"--threads", 0, 4096, false},
+                              {"--face-time-limit", 0, HUGE_VAL, false}};
 
-// A size given, or left at 0 (the default).
-std::string check_size(const char* flag, double v) {
-  return v == 0 ? "" : check_positive(flag, v);
-}
-
-// 0 (the default) or a value in [lo, hi].
-std::string check_range(const char* flag, double v, double lo, double hi, bool zero_ok = true) {
-  if ((zero_ok && v == 0) || (v >= lo && v <= hi)) return "";
-  return std::string(flag) + ": value " + number(v) + " not in range " + number(lo) + " to " +
-         number(hi);
+// The check of a flag's value; a value of 0 is the default (not checked) when zero_ok.
+std::string check_flag(const char* flag, double v, bool zero_ok = true) {
+  if (zero_ok && v == 0) return "";
+  const std::string e = check_option_value(flag, v);
+  return e.empty() ? e : std::string(flag) + ": " + e;
 }
 
 std::string check_local_sizes(const MeshJobOptions& o) {
@@ -59,8 +68,9 @@ std::string check_local_sizes(const MeshJobOptions& o) {
 }
 
 std::string check_read(const ReadOptions& r) {
-  if (std::string e = check_positive("--sew-tol", r.sew_rel_tol); !e.empty()) return e;
-  if (std::string e = check_positive("--sew-max-tol", r.sew_max_rel_tol); !e.empty()) return e;
+  for (std::string e : {check_flag("--sew-tol", r.sew_rel_tol, false),
+                        check_flag("--sew-max-tol", r.sew_max_rel_tol, false)})
+    if (!e.empty()) return e;
   if (!r.units.empty() && canonical_length_unit(r.units).empty())
     return "--units: unknown length unit '" + r.units + "' (known: " + known_length_units() + ")";
   return "";
@@ -150,6 +160,20 @@ void add_mesher_sections(const surface::MeshResult& r, nlohmann::json& j) {
 
 }  // namespace
 
+std::string check_option_value(std::string_view flag, double v, std::string_view text) {
+  const std::string shown = text.empty() ? number(v) : std::string(text);
+  for (const Bounds& b : kBounds) {
+    if (flag != b.flag) continue;
+    if (b.positive)
+      return std::isfinite(v) && v > b.lo ? ""
+                                          : "expected a finite number > 0, found '" + shown + "'";
+    return v >= b.lo && v <= b.hi ? ""
+                                  : "value " + shown + " not in range " + number(b.lo) + " to " +
+                                        (std::isinf(b.hi) ? std::string("inf") : number(b.hi));
+  }
+  return "";
+}
+
 bool parse_id_size(const std::string& s, geom::Id& id, double& h) {
   const auto eq = s.find('=');
   if (eq == std::string::npos) return false;
@@ -177,20 +201,20 @@ std::string check_options(const MeshJobOptions& o) {
   // model is read (mesh_options).
   if (o.hmin > 0 && o.hmax > 0 && o.hmin > o.hmax)
     return "--hmin " + number(o.hmin) + " is larger than hmax " + number(o.hmax);
-  const std::pair<const char*, double> sizes[] = {{"--hmax", o.hmax},
-                                                  {"--hmax-rel", o.hmax_rel},
-                                                  {"--hmin", o.hmin},
-                                                  {"--chordal", o.chordal},
-                                                  {"--min-feature", o.min_feature}};
-  for (const auto& [flag, v] : sizes)
-    if (std::string e = check_size(flag, v); !e.empty()) return e;
-  for (std::string e :
-       {check_range("--angle", o.angle_deg, 0.1, 180.0),
-        check_range("--feature-angle", o.feature_angle_deg, 0.0, 180.0),
-        check_range("--grad", o.grad, 1.0, 100.0), check_range("--aniso", o.aniso, 1.0, 1e4),
-        check_range("--threads", o.threads, 0, 4096),
-        check_range("--face-time-limit", o.face_time_limit, 0.0, HUGE_VAL), check_local_sizes(o),
-        check_read(o.read)})
+  const std::pair<const char*, double> values[] = {{"--hmax", o.hmax},
+                                                   {"--hmax-rel", o.hmax_rel},
+                                                   {"--hmin", o.hmin},
+                                                   {"--chordal", o.chordal},
+                                                   {"--min-feature", o.min_feature},
+                                                   {"--angle", o.angle_deg},
+                                                   {"--feature-angle", o.feature_angle_deg},
+                                                   {"--grad", o.grad},
+                                                   {"--aniso", o.aniso},
+                                                   {"--threads", static_cast<double>(o.threads)}};
+  for (const auto& [flag, v] : values)
+    if (std::string e = check_flag(flag, v); !e.empty()) return e;
+  for (std::string e : {check_flag("--face-time-limit", o.face_time_limit, false),
+                        check_local_sizes(o), check_read(o.read)})
     if (!e.empty()) return e;
   geom::SubdScheme scheme;
   geom::SubdBoundary boundary;

@@ -10,6 +10,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -65,6 +66,23 @@ std::string check_flags(const MeshFlags& f, const io::MeshJobOptions& job,
   return "";
 }
 
+// A flag's validator from the job's bounds (io::check_option_value): the command line and
+// the Python module accept the same values, with the same messages.
+CLI::Validator job_bounds(const char* flag) {
+  return CLI::Validator(
+      [flag](std::string& s) {
+        double v = std::nan("");
+        std::size_t used = 0;
+        try {
+          v = std::stod(s, &used);
+        } catch (...) {
+          used = 0;
+        }
+        return io::check_option_value(flag, used == s.size() ? v : std::nan(""), s);
+      },
+      "X");
+}
+
 }  // namespace
 
 CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
@@ -84,37 +102,37 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
                 "output mesh; the extension picks the format (" + io::known_mesh_extensions() + ")")
       ->required();
   c->add_option("--hmax", f.job.hmax, "largest element size (model units)")
-      ->check(finite_positive());
+      ->check(job_bounds("--hmax"));
   c->add_option("--hmax-rel", f.job.hmax_rel, "largest element size as a fraction of D")
-      ->check(finite_positive());
-  c->add_option("--hmin", f.job.hmin, "smallest element size")->check(finite_positive());
+      ->check(job_bounds("--hmax-rel"));
+  c->add_option("--hmin", f.job.hmin, "smallest element size")->check(job_bounds("--hmin"));
   c->add_option("--chordal", f.job.chordal, "maximum distance between the mesh and the surface")
-      ->check(finite_positive());
+      ->check(job_bounds("--chordal"));
   c->add_option("--angle", f.job.angle_deg,
                 "each element spans at most DEG degrees of curvature arc")
-      ->check(CLI::Range(0.1, 180.0));
+      ->check(job_bounds("--angle"));
   c->add_option("--min-feature", f.job.min_feature,
                 "feature size: smaller CAD entities are absorbed (default: hmin)")
-      ->check(finite_positive());
+      ->check(job_bounds("--min-feature"));
   c->add_option("--feature-angle", f.job.feature_angle_deg,
                 "dihedral angle in degrees below which a CAD edge is smooth (default 20)")
-      ->check(CLI::Range(0.0, 180.0));
+      ->check(job_bounds("--feature-angle"));
   c->add_flag("--features", f.features,
               "absorb CAD entities below the default feature size (the default; see above)");
   c->add_flag("--keep-topology", f.job.keep_topology,
               "every CAD edge and face stays in the mesh; nothing is absorbed");
   c->add_option("--grad", f.job.grad, "gradation: neighbouring sizes differ by at most this ratio")
-      ->check(CLI::Range(1.0, 100.0));
+      ->check(job_bounds("--grad"));
   c->add_flag("--iso", f.iso, "isotropic curvature sizes (the default)");
   c->add_option("--aniso", f.job.aniso,
                 "anisotropic curvature sizes, stretch ratio at most R (e.g. 10)")
-      ->check(CLI::Range(1.0, 1e4));
+      ->check(job_bounds("--aniso"));
   c->add_option("--face-size", f.face_size, "local size on a face: ID=H (repeatable)");
   c->add_option("--edge-size", f.edge_size, "local size on an edge: ID=H (repeatable)");
   c->add_option("--sizes", f.job.size_file,
                 "file of local sizes, lines 'face ID H' or 'edge ID H'");
   c->add_option("--threads", f.job.threads, "worker threads (default: all cores)")
-      ->check(CLI::Range(0, 4096));
+      ->check(job_bounds("--threads"));
   c->add_option("--report", f.report,
                 "write a JSON report (counts, times, quality, chordal, topology)");
   c->add_flag("--allow-holes", f.allow_holes, "exit 0 even when some faces could not be meshed");
@@ -122,7 +140,7 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
   c->add_option("--face-time-limit", f.job.face_time_limit,
                 "seconds the 2D mesher may spend on one face (0: no limit); a face beyond it is "
                 "reported as failed and the rest of the model is meshed")
-      ->check(CLI::NonNegativeNumber)
+      ->check(job_bounds("--face-time-limit"))
       ->capture_default_str();
   c->add_flag("--no-selfint", f.no_selfint, "skip the self-intersection check of the report");
   c->add_flag("-q,--quiet", f.quiet, "no summary line");

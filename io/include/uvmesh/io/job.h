@@ -20,6 +20,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 #include "uvmesh/geom/model.h"
 #include "uvmesh/io/cad_reader.h"
@@ -64,6 +65,12 @@ struct MeshJobOptions {
 /// "" when the options are usable, else the message `uvmesh mesh` gives (naming the
 /// flag). Checks what needs no model; mesh_job checks the rest.
 std::string check_options(const MeshJobOptions& o);
+
+/// The bounds of a numeric option, named by its command-line flag ("--grad"): "" when `v`
+/// is allowed, else why not, without the flag's name ("value 0.5 not in range 1 to 100";
+/// `text`, when given, is how the value was written). The one definition of the bounds:
+/// the CLI's validators call it, check_options too. "" for a flag it does not know.
+std::string check_option_value(std::string_view flag, double v, std::string_view text = {});
 
 /// "ID=H" -> (ID, H); false when malformed (the syntax of --face-size and --edge-size).
 bool parse_id_size(const std::string& s, geom::Id& id, double& h);
