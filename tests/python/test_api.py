@@ -258,3 +258,26 @@ def test_obj_cage(uvmesh):
     assert len(loop.triangles) > 0
     with pytest.raises(ValueError, match="--scheme"):
         uvmesh.mesh(cage, scheme="butterfly")
+
+
+def test_mesh_a_path_with_read_options(uvmesh):
+    m = uvmesh.mesh(BRACKET, heal=False, units="cm", hmax=0.8, self_intersections=False,
+                    threads=2)
+    assert m.model.units == "cm" and m.failed_faces == []
+    r = m.report
+    assert r["size"]["hmax"] == 0.8 and r["units"] == "cm"
+    assert all(not h["applied"] for h in r["read"]["healing"])
+
+
+def test_cli_and_python_accept_the_same_values(uvmesh, tmp_path):
+    # The bounds are one table (io/job.h check_option_value): the CLI's message for a bad
+    # value is the one ValueError carries.
+    for flag, kw, value in [("--grad", "grad", "0.5"), ("--hmax", "hmax", "-2"),
+                            ("--angle", "angle", "200")]:
+        r = subprocess.run([UVMESH_EXE, "mesh", str(BRACKET), "-o", str(tmp_path / "x.msh"),
+                            flag, value], capture_output=True, text=True)
+        assert r.returncode == 1
+        with pytest.raises(ValueError) as e:
+            uvmesh.mesh(BRACKET, **{kw: float(value)})
+        detail = str(e.value).split(": ", 1)[1]
+        assert detail in r.stderr, (r.stderr, str(e.value))
