@@ -253,6 +253,7 @@ std::unique_ptr<Mesh> mesh_model(const Model& model, const py::dict& kw,
   out->rr = model.rr, out->model_path = model.path, out->read_seconds = model.read_seconds;
   Progress hook;
   if (!progress.is_none()) {
+    if (!PyCallable_Check(progress.ptr())) throw py::type_error("progress= must be callable");
     hook.fn = progress.cast<py::function>();
     o.progress = [&hook](int done, int total) { hook(done, total); };
   }

@@ -247,6 +247,8 @@ def test_progress(uvmesh, bracket):
 
     with pytest.raises(KeyError):
         uvmesh.mesh(bracket, threads=2, progress=boom)
+    with pytest.raises(TypeError):
+        uvmesh.mesh(bracket, progress=3)
 
 
 def test_obj_cage(uvmesh):

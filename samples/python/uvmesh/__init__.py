@@ -100,6 +100,8 @@ def mesh(model, *, hmax=None, hmin=None, chordal=None, angle=None, grad=None,
         key = next(k for k, v in read_options.items() if v is not None)
         raise ValueError("%s= applies when reading a file: pass a path, or give it to "
                          "uvmesh.read()" % key)
+    # The keywords are MeshJobOptions' fields (io/job.h) by name, each with a setter in
+    # module.cpp: a new option of the job is one field, one setter and one keyword here.
     options = dict(hmax=hmax, hmin=hmin, chordal=chordal, angle=angle, grad=grad,
                    face_sizes=face_sizes, edge_sizes=edge_sizes, threads=threads,
                    hmax_rel=hmax_rel, aniso=aniso, min_feature=min_feature,
