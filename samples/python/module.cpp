@@ -279,7 +279,8 @@ py::array view(const void* first, std::size_t n, std::size_t cols, std::size_t s
   // An empty vector may have no storage; numpy still wants a pointer to view.
   static const T none[3] = {};
   py::array a(py::dtype::of<T>(), shape, strides, n ? static_cast<const T*>(first) : none, owner);
-  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  // Read-only: the mesh's arrays describe one mesh together (indices into points).
+  a.attr("setflags")(py::arg("write") = false);
   return a;
 }
 

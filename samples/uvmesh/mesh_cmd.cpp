@@ -1,4 +1,6 @@
-// `uvmesh mesh MODEL -o OUT`: read, mesh (surface::mesh_model), check, write, report.
+// `uvmesh mesh MODEL -o OUT`: read, mesh, check, write, report. The job itself (options and
+// their defaults and checks, read, mesh, report) is io/job.h, shared with the Python module;
+// this is its command line: flags, output paths, messages and exit codes.
 //
 // Exit codes: 0 success; 1 command-line error; 2 the model could not be read; 3 some
 // faces could not be meshed (the rest is written; 0 with --allow-holes); 4 the output
