@@ -174,6 +174,15 @@ std::string check_option_value(std::string_view flag, double v, std::string_view
   return "";
 }
 
+std::string option_bounds_text(std::string_view flag) {
+  for (const Bounds& b : kBounds)
+    if (flag == b.flag)
+      return b.positive ? "X>0"
+                        : "[" + number(b.lo) + " - " +
+                              (std::isinf(b.hi) ? std::string("inf") : number(b.hi)) + "]";
+  return "";
+}
+
 bool parse_id_size(const std::string& s, geom::Id& id, double& h) {
   const auto eq = s.find('=');
   if (eq == std::string::npos) return false;

@@ -82,7 +82,7 @@ CLI::Validator job_bounds(const char* flag) {
         }
         return io::check_option_value(flag, used == s.size() ? v : std::nan(""), s);
       },
-      "X");
+      io::option_bounds_text(flag));
 }
 
 }  // namespace

@@ -72,6 +72,9 @@ std::string check_options(const MeshJobOptions& o);
 /// the CLI's validators call it, check_options too. "" for a flag it does not know.
 std::string check_option_value(std::string_view flag, double v, std::string_view text = {});
 
+/// The bounds of check_option_value as `--help` shows them: "X>0", "[1 - 100]".
+std::string option_bounds_text(std::string_view flag);
+
 /// "ID=H" -> (ID, H); false when malformed (the syntax of --face-size and --edge-size).
 bool parse_id_size(const std::string& s, geom::Id& id, double& h);
 
