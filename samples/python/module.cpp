@@ -289,6 +289,16 @@ static_assert(sizeof(geom::Vec3) == 3 * sizeof(double));
 static_assert(sizeof(std::array<surface::NodeId, 3>) == 3 * sizeof(std::int32_t));
 static_assert(sizeof(Segment) == 3 * sizeof(std::int32_t) && offsetof(Segment, edge) == 8);
 
+// A property: the view of one of the mesh's vectors (`cols` values of T per element, from
+// the element's start; a segment's two nodes, not its curve id).
+template <class T, class V>
+auto vector_view(std::vector<V> surface::SurfaceMesh::*member, std::size_t cols) {
+  return [member, cols](py::object self) {
+    const std::vector<V>& v = self.cast<const Mesh&>().run.result.mesh.*member;
+    return view<T>(v.data(), v.size(), cols, sizeof(V), self);
+  };
+}
+
 const std::string& report_of(Mesh& s) {
   py::gil_scoped_release nogil;  // before the lock: its holder may wait for the GIL
   std::lock_guard<std::mutex> lock(s.report_mu);
@@ -350,28 +360,12 @@ py::list failures(const std::vector<surface::FaceFailure>& v) {
 
 void bind_mesh(py::module_& m) {
   py::class_<Mesh>(m, "Mesh", "A surface mesh made by uvmesh.mesh().")
-      .def_property_readonly("points",
-                             [](py::object self) {
-                               const auto& p = self.cast<const Mesh&>().run.result.mesh.points;
-                               return view<double>(p.data(), p.size(), 3, sizeof(p[0]), self);
-                             })
+      .def_property_readonly("points", vector_view<double>(&surface::SurfaceMesh::points, 3))
       .def_property_readonly("triangles",
-                             [](py::object self) {
-                               const auto& t = self.cast<const Mesh&>().run.result.mesh.triangles;
-                               return view<std::int32_t>(t.data(), t.size(), 3, sizeof(t[0]), self);
-                             })
+                             vector_view<std::int32_t>(&surface::SurfaceMesh::triangles, 3))
       .def_property_readonly("face_ids",
-                             [](py::object self) {
-                               const auto& f =
-                                   self.cast<const Mesh&>().run.result.mesh.triangle_face;
-                               return view<std::int32_t>(f.data(), f.size(), 1, sizeof(f[0]), self);
-                             })
-      .def_property_readonly("edges",
-                             [](py::object self) {
-                               const auto& s = self.cast<const Mesh&>().run.result.mesh.segments;
-                               return view<std::int32_t>(s.data(), s.size(), 2, sizeof(Segment),
-                                                         self);
-                             })
+                             vector_view<std::int32_t>(&surface::SurfaceMesh::triangle_face, 1))
+      .def_property_readonly("edges", vector_view<std::int32_t>(&surface::SurfaceMesh::segments, 2))
       .def_property_readonly("edge_curve_ids",
                              [](py::object self) {
                                const auto& s = self.cast<const Mesh&>().run.result.mesh.segments;
@@ -379,16 +373,9 @@ void bind_mesh(py::module_& m) {
                                                          1, sizeof(Segment), self);
                              })
       .def_property_readonly("point_dims",
-                             [](py::object self) {
-                               const auto& d = self.cast<const Mesh&>().run.result.mesh.point_dim;
-                               return view<std::int8_t>(d.data(), d.size(), 1, sizeof(d[0]), self);
-                             })
+                             vector_view<std::int8_t>(&surface::SurfaceMesh::point_dim, 1))
       .def_property_readonly("point_entities",
-                             [](py::object self) {
-                               const auto& e =
-                                   self.cast<const Mesh&>().run.result.mesh.point_entity;
-                               return view<std::int32_t>(e.data(), e.size(), 1, sizeof(e[0]), self);
-                             })
+                             vector_view<std::int32_t>(&surface::SurfaceMesh::point_entity, 1))
       .def_property_readonly("_report_json", [](Mesh& s) { return report_of(s); })
       .def_property_readonly("failed_faces",
                              [](const Mesh& s) { return failures(s.run.result.failed); })
