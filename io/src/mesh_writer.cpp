@@ -25,6 +25,11 @@
 
 namespace uvmesh::io {
 
+bool carries_tetrahedra(MeshFormat f) {
+  return f == MeshFormat::Msh41 || f == MeshFormat::Msh22 || f == MeshFormat::Medit ||
+         f == MeshFormat::Vtu;
+}
+
 namespace {
 
 using namespace detail;
@@ -243,8 +248,7 @@ std::string check_format(MeshFormat f, const SurfaceMesh& m, const WriteOptions&
     return "there is no binary form of " + std::string(format_name(f)) + " here";
   if (binary_only && opts.encoding == Encoding::Ascii)
     return std::string(format_name(f)) + " has no ASCII form";
-  if (opts.volume && f != MeshFormat::Msh41 && f != MeshFormat::Msh22 && f != MeshFormat::Medit &&
-      f != MeshFormat::Vtu)
+  if (opts.volume && !carries_tetrahedra(f))
     return std::string(format_name(f)) +
            " cannot carry tetrahedra (volume meshes: .msh, .mesh or .vtu)";
   // Legacy VTK, VTU, binary STL, PLY and .meshb count in 32 bits.

@@ -77,6 +77,10 @@ enum class MeshFormat {
 /// .ply .vtk .vtu .poly .smesh .drc .glb. nullopt for any other extension or none.
 std::optional<MeshFormat> format_from_path(const std::string& path);
 
+/// True for the formats that carry tetrahedra (WriteOptions::volume): .msh 4.1 and 2.2,
+/// Medit .mesh, .vtu.
+bool carries_tetrahedra(MeshFormat f);
+
 /// The format of a short name (format_name), e.g. "msh22"; nullopt when unknown.
 std::optional<MeshFormat> format_from_name(std::string_view name);
 
