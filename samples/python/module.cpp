@@ -26,6 +26,8 @@
 #include "uvmesh/geom/surface.h"
 #include "uvmesh/io/job.h"
 #include "uvmesh/io/mesh_writer.h"
+#include "uvmesh/io/report.h"
+#include "uvmesh/surface/tet_mesh.h"
 
 namespace py = pybind11;
 using namespace uvmesh;
@@ -423,6 +425,39 @@ void bind_mesh(py::module_& m) {
       });
 }
 
+// uvmesh.tet_quality(): the report's volume quality (io::tet_report_json, the measures of
+// surface/tet_mesh.h) of any tetrahedra, e.g. another mesher's, so that a comparison uses
+// the one definition of the measures rather than a copy of them.
+std::string tet_quality(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& points,
+    const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& tets,
+    const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& solids) {
+  if (points.ndim() != 2 || points.shape(1) != 3)
+    throw py::value_error("points must be an N x 3 array");
+  if (tets.ndim() != 2 || tets.shape(1) != 4) throw py::value_error("tets must be an M x 4 array");
+  if (solids.ndim() != 1 || solids.shape(0) != tets.shape(0))
+    throw py::value_error("tet_solids must have one entry per tetrahedron");
+  surface::TetMesh v;
+  const auto p = points.unchecked<2>();
+  for (py::ssize_t i = 0; i < p.shape(0); ++i) v.points.push_back({p(i, 0), p(i, 1), p(i, 2)});
+  v.surface_points = v.points.size();
+  const auto t = tets.unchecked<2>();
+  const auto s = solids.unchecked<1>();
+  for (py::ssize_t i = 0; i < t.shape(0); ++i) {
+    std::array<surface::NodeId, 4> k{};
+    for (int j = 0; j < 4; ++j) {
+      if (t(i, j) < 0 || t(i, j) >= p.shape(0))
+        throw py::value_error("tetrahedron " + std::to_string(i) +
+                              " has a point index out of range");
+      k[j] = static_cast<surface::NodeId>(t(i, j));
+    }
+    v.tets.push_back(k);
+    v.tet_solid.push_back(static_cast<geom::Id>(s(i)));
+  }
+  py::gil_scoped_release nogil;
+  return io::tet_report_json(v).dump();
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_uvmesh, m) {
@@ -437,4 +472,5 @@ PYBIND11_MODULE(_uvmesh, m) {
     return k;
   });
   m.def("_mesh_extensions", &io::known_mesh_extensions);
+  m.def("_tet_quality", &tet_quality, py::arg("points"), py::arg("tets"), py::arg("tet_solids"));
 }

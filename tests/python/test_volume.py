@@ -58,3 +58,27 @@ def test_volume_assembly_two_regions(uvmesh):
     m = uvmesh.mesh(DATA / "cad" / "dagmc_two_cubes.stp", volume=True, threads=2)
     assert sorted(set(m.tet_solids.tolist())) == [0, 1]
     assert m.report["counts"]["solids_filled"] == 2
+
+
+def test_tet_quality_of_any_tetrahedra(uvmesh, bracket):
+    # The regular tetrahedron: dihedral acos(1/3) = 70.53 degrees, radius-edge sqrt(6)/4.
+    s = 1 / np.sqrt(2)
+    regular = [[1, 0, -s], [-1, 0, -s], [0, 1, s], [0, -1, s]]
+    q = uvmesh.tet_quality(regular, [[1, 0, 2, 3]])
+    assert q["tets"] == 1 and q["inverted"] == 0
+    assert q["min_dihedral_deg"]["min"] == pytest.approx(np.degrees(np.arccos(1 / 3)), abs=1e-9)
+    assert q["radius_edge"]["max"] == pytest.approx(np.sqrt(6) / 4, abs=1e-12)
+    # Listed in the other order it is inverted; its shape measures do not change.
+    flipped = uvmesh.tet_quality(regular, [[0, 1, 2, 3]])
+    assert flipped["inverted"] == 1
+    assert flipped["radius_edge"]["max"] == pytest.approx(np.sqrt(6) / 4, abs=1e-12)
+    # On a mesh of ours it gives what the report's volume section gives.
+    m = uvmesh.mesh(bracket, volume=True, threads=2)
+    ours = uvmesh.tet_quality(m.volume_points, m.tets, m.tet_solids)
+    v = m.report["volume"]
+    for key in ("tets", "inverted", "min_dihedral_deg", "radius_edge"):
+        assert ours[key] == v[key]
+    with pytest.raises(ValueError):
+        uvmesh.tet_quality(regular, [[0, 1, 2, 4]])
+    with pytest.raises(ValueError):
+        uvmesh.tet_quality(regular, [[0, 1, 2, 3]], tet_solids=[0, 0])

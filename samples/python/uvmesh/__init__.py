@@ -20,7 +20,7 @@ import re as _re
 from ._uvmesh import Mesh, Model
 from . import _uvmesh
 
-__all__ = ["read", "mesh", "Model", "Mesh", "UvmeshError", "CadReadError", "MeshingError"]
+__all__ = ["read", "mesh", "tet_quality", "Model", "Mesh", "UvmeshError", "CadReadError", "MeshingError"]
 
 _READ_KEYWORDS = frozenset(_uvmesh._read_keywords())
 
@@ -122,6 +122,20 @@ def mesh(model, *, hmax=None, hmin=None, chordal=None, angle=None, grad=None,
         raise MeshingError("%d solid(s) could not be filled (%s)" % (
             len(result.failed_solids), "; ".join(result.failed_solids[:5])), [], result)
     return result
+
+
+def tet_quality(points, tets, tet_solids=None):
+    """The quality of any tetrahedral mesh (another mesher's too), as the report's
+    ``volume`` section gives it for ``volume=True``: ``tets``, ``inverted`` (volume <= 0),
+    ``volume``, ``min_dihedral_deg`` {min, p01, median} and ``radius_edge`` {max, p99,
+    median} (circumradius / shortest edge), whole and per solid. ``points``: N x 3;
+    ``tets``: M x 4 0-based indices; ``tet_solids``: M solid ids (default all 0)."""
+    import numpy
+    tets = numpy.asarray(tets).reshape(-1, 4)
+    if tet_solids is None:
+        tet_solids = numpy.zeros(len(tets), dtype=numpy.int64)
+    return _json.loads(_uvmesh._tet_quality(numpy.asarray(points, dtype=numpy.float64).reshape(-1, 3),
+                                            tets, numpy.asarray(tet_solids).reshape(-1)))
 
 
 def _report(self):
