@@ -285,6 +285,7 @@ std::string mesh_options(const MeshJobOptions& o, const geom::Model& model,
   out.threads = o.threads;
   out.face_time_limit = o.face_time_limit;
   out.optimize3d = o.optimize3d;
+  out.frontal = o.frontal;
   out.progress = o.progress;
   return local_sizes(o, model, out);
 }
@@ -376,7 +377,8 @@ nlohmann::json mesh_report(const MeshJobOptions& opt, const ReadResult& rr, cons
                {"isotropic", o.size.isotropic},
                {"min_feature", surface::feature_size(o, model.bbox)},
                {"feature_angle_deg", o.feature_angle * 180.0 / std::numbers::pi},
-               {"keep_topology", o.keep_topology}};
+               {"keep_topology", o.keep_topology},
+               {"field_points", o.frontal ? "frontal" : "saturation"}};
   j["counts"]["faces"] = model.faces.size();
   j["counts"]["edges"] = model.edges.size();
   j["counts"]["faces_failed"] = r.failed.size();

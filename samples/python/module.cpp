@@ -88,6 +88,7 @@ const std::map<std::string, Setter>& mesh_setters() {
       {"threads", [](auto& o, py::handle v) { o.threads = v.cast<int>(); }},
       {"face_time_limit", [](auto& o, py::handle v) { o.face_time_limit = v.cast<double>(); }},
       {"optimize3d", [](auto& o, py::handle v) { o.optimize3d = v.cast<bool>(); }},
+      {"frontal", [](auto& o, py::handle v) { o.frontal = v.cast<bool>(); }},
       {"self_intersections", [](auto& o, py::handle v) { o.self_intersections = v.cast<bool>(); }},
       {"volume", [](auto& o, py::handle v) { o.volume = v.cast<bool>(); }},
   };

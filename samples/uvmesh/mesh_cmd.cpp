@@ -151,6 +151,9 @@ CLI::App* add_mesh_command(CLI::App& app, MeshFlags& f) {
               "mesh unchanged; one region per solid (.msh, .mesh, .vtu); a solid that is not "
               "closed is named and skipped (exit 3 unless --allow-holes)");
   c->add_flag("--no-optimize3d", f.no_optimize3d, "skip the 3D swaps and smoothing");
+  c->add_flag("--frontal", f.job.frontal,
+              "place each face's interior points frontally (more nearly equilateral typical "
+              "triangles, a few percent more of them) instead of by edge saturation");
   c->add_option("--face-time-limit", f.job.face_time_limit,
                 "seconds the 2D mesher may spend on one face (0: no limit); a face beyond it is "
                 "reported as failed and the rest of the model is meshed")

@@ -144,7 +144,7 @@ m2d::Result run_mesher2d(const FaceInput& job, const FacePslg& pslg, FaceMetric&
   m2d::Options o;
   o.split_segments = false;          // edge nodes are owned by the model edges
   o.domain_from_orientation = true;  // outer loop CCW, holes CW in (u,v)
-  FaceMetric::mesher_options(job.opt.size, o);
+  FaceMetric::mesher_options(job.opt, o);
   // The (u,v) metric is a sampled lower bound on the density the chordal tolerance needs
   // (the chordal repair below only adds points): mesher2d's size pass may split long
   // edges but must not collapse short ones.

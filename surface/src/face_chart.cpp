@@ -276,7 +276,7 @@ m2d::Result run_chart_mesher(const FaceInput& job, const m2d::Pslg& in, const Ch
   m2d::Options o;
   o.split_segments = false;
   o.domain_from_orientation = true;
-  FaceMetric::mesher_options(job.opt.size, o);
+  FaceMetric::mesher_options(job.opt, o);
   o.collapse_short_edges = false;
   o.time_limit = job.opt.face_time_limit;
   o.measure = false;

@@ -188,9 +188,12 @@ m2d::SizeSpec FaceMetric::mesher_size() {
 //
 // Gradation from the boundary: mesher2d grows the boundary's sizes into the face at the
 // spec's gradation rate (the H-correction, eq. 7.11), taken as at least 1.05.
-void FaceMetric::mesher_options(const param::SizeSpec& size, m2d::Options& o) {
-  o.max_anisotropy = size.max_uv_anisotropy;
-  o.boundary_gradation = std::max(size.gradation, 1.05);
+//
+// Field points: saturation or frontal placement, as MeshOptions::frontal says.
+void FaceMetric::mesher_options(const MeshOptions& opt, m2d::Options& o) {
+  o.max_anisotropy = opt.size.max_uv_anisotropy;
+  o.boundary_gradation = std::max(opt.size.gradation, 1.05);
+  o.field_points = opt.frontal ? m2d::FieldPointMethod::Frontal : m2d::FieldPointMethod::Saturation;
 }
 
 }  // namespace uvmesh::surface::detail

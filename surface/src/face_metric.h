@@ -19,6 +19,7 @@
 #include "uvmesh/geom/model.h"
 #include "uvmesh/mesher2d/mesher2d.h"
 #include "uvmesh/param/size_field.h"
+#include "uvmesh/surface/mesher.h"
 
 namespace uvmesh::surface::detail {
 
@@ -125,7 +126,7 @@ class FaceMetric {
   m2d::SizeSpec mesher_size();
   /// The options of mesher2d that belong to the metric: the second anisotropy cap and
   /// the gradation from the boundary sizes.
-  static void mesher_options(const param::SizeSpec& size, m2d::Options& o);
+  static void mesher_options(const MeshOptions& opt, m2d::Options& o);
 
   /// The 3D metric at uv, scaled as mesher2d scaled it there (m2d::Mesh::boundary_scale): what the
   /// face's unit edges are measured in.

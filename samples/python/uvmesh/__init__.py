@@ -80,7 +80,7 @@ def mesh(model, *, hmax=None, hmin=None, chordal=None, angle=None, grad=None,
          face_sizes=None, edge_sizes=None, threads=None, progress=None, hmax_rel=None,
          aniso=None, min_feature=None, feature_angle=None, keep_topology=None,
          size_file=None, face_time_limit=None, optimize3d=None, self_intersections=None,
-         volume=None, allow_holes=False, **read_options):
+         volume=None, frontal=None, allow_holes=False, **read_options):
     """Meshes a Model, or the file at a path (read with ``read_options``, the keywords of
     read(), e.g. ``scheme="loop"`` for an OBJ cage), into a Mesh.
 
@@ -88,7 +88,8 @@ def mesh(model, *, hmax=None, hmin=None, chordal=None, angle=None, grad=None,
     hmax D/20, hmin D/1000, chordal D/1000, angle 18 degrees, grad 1.3). face_sizes /
     edge_sizes: {id: size}. threads: 0 = all cores. progress(done, total): called as faces
     are meshed (with the GIL; an exception it raises is raised by mesh() when meshing is
-    over). face_time_limit: seconds per face (120; 0 = none). self_intersections: the
+    over). face_time_limit: seconds per face (120; 0 = none). frontal=True: frontal point
+    placement (--frontal). self_intersections: the
     report's search. volume=True also fills every closed solid with tetrahedra (Netgen)
     bounded by the surface mesh unchanged: Mesh.tets (K x 4, indices into
     Mesh.volume_points, whose first rows are Mesh.points) and Mesh.tet_solids. Raises
@@ -112,7 +113,7 @@ def mesh(model, *, hmax=None, hmin=None, chordal=None, angle=None, grad=None,
                    feature_angle=feature_angle, keep_topology=keep_topology,
                    size_file=size_file, face_time_limit=face_time_limit,
                    optimize3d=optimize3d, self_intersections=self_intersections,
-                   volume=volume)
+                   volume=volume, frontal=frontal)
     result = _uvmesh._mesh(model, options, progress)
     failed = result.failed_faces
     if failed and not allow_holes:

@@ -53,6 +53,7 @@ struct MeshJobOptions {
   int threads = 0;                 ///< 0: all cores (reading's general fuse, faces, checks)
   double face_time_limit = 120.0;  ///< seconds per face in the 2D mesher; 0 = none
   bool optimize3d = true;
+  bool frontal = false;            ///< surface::MeshOptions::frontal
   bool self_intersections = true;  ///< the report's self-intersection search
   /// Also fill every closed solid with tetrahedra bounded by the surface mesh unchanged
   /// (surface::fill_solids, Netgen's nglib; volume_available()).

@@ -36,6 +36,12 @@ struct MeshOptions {
   int threads = 0;         ///< 0: all cores
   bool optimize3d = true;  ///< swaps and smoothing judged by 3D quality
   int optimize3d_passes = 4;
+  /// Field points of each face's 2D mesh placed frontally (mesher2d's
+  /// FieldPointMethod::Frontal, §7.4.3) instead of by edge saturation (§7.5.2). Off by
+  /// default: on the corpus at hmax D/40 it raises the median triangle shape on 50 of 53
+  /// models but worsens the largest Q on 13 and makes 5-12% more triangles
+  /// (bench/surface/results.md, Session 24).
+  bool frontal = false;
   /// The chordal tolerance the user asked for is divided by this before it sizes
   /// elements: a unit edge may be sqrt(2) long, and the sagitta grows with h^2.
   double chordal_safety = 4.0;
